@@ -1,0 +1,107 @@
+// app/cmd_render.cpp: `pathview render`: headless rendering to EXR or PNG, with a progress bar and a summary.
+#include "app/commands.h"
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/renderer.h"
+#include "core/scene_file.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+namespace pv::app {
+namespace {
+
+struct RenderOptions {
+    CommonOptions common;
+    std::optional<int> spp;
+    std::optional<double> seconds;
+    std::string out;
+    float exposure = 0.f;
+    bool quiet = false;
+};
+
+void progress_bar(double fraction, uint32_t spp, double seconds) {
+    const int width = 30;
+    const int filled = static_cast<int>(std::min(1.0, fraction) * width);
+    std::fprintf(stderr, "\r[%.*s%.*s] %3d%%  %u spp  %.1f s", filled, "==============================", width - filled,
+                 "                              ", static_cast<int>(std::min(1.0, fraction) * 100.0), spp, seconds);
+    std::fflush(stderr);
+}
+
+void run(RenderOptions& o) {
+    resolve_switches(o.common);
+    if (!o.spp && !o.seconds) o.spp = 64;
+    const std::string path = scene_path(o.common);
+    const std::string ext = std::filesystem::path(o.out).extension().string();
+    if (ext != ".exr" && ext != ".png" && ext != ".EXR" && ext != ".PNG")
+        throw Error(o.out + ": unknown image format '" + ext + "'; expected .exr or .png");
+
+    auto scene = std::make_shared<Scene>(load_scene(path));
+    for (const std::string& w : scene->warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
+    CameraDesc camera = scene->camera;
+    apply_camera_overrides(o.common, camera);
+
+    Renderer renderer(scene, o.common.threads);
+    renderer.restart(camera, o.common.settings, o.common.width, o.common.height);
+    const bool tty = !o.quiet && isatty(STDERR_FILENO);
+    const auto start = std::chrono::steady_clock::now();
+    auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+    double last_draw = -1.0;
+    for (;;) {
+        const double t = elapsed();
+        const RenderStats& st = renderer.stats();
+        if (o.spp && st.spp >= static_cast<uint32_t>(*o.spp)) break;
+        if (o.seconds && t >= *o.seconds && st.spp > 0) break;
+        if (tty && t - last_draw > 0.1) {
+            const double f = o.spp ? double(st.spp) / *o.spp : t / *o.seconds;
+            progress_bar(f, st.spp, t);
+            last_draw = t;
+        }
+        renderer.render_pass();
+    }
+    if (tty) {
+        progress_bar(1.0, renderer.stats().spp, elapsed());
+        std::fprintf(stderr, "\n");
+    }
+
+    Image image = renderer.film().mean();
+    if (o.exposure != 0.f)
+        for (float& v : image.rgb) v *= std::exp2(o.exposure);
+    write_image(o.out, image, render_metadata(renderer));
+
+    const RenderStats& st = renderer.stats();
+    const double secs = std::max(st.seconds, 1e-9);
+    std::printf("pathview: %u spp in %.2f s, %s paths/s, %s rays/s (%s closest-hit + %s shadow), %.2f rays/path, "
+                "%llu dropped samples, %d threads, %s -> %s\n",
+                st.spp, st.seconds, format_si(double(st.paths) / secs).c_str(),
+                format_si(double(st.rays + st.shadow_rays) / secs).c_str(), format_si(double(st.rays) / secs).c_str(),
+                format_si(double(st.shadow_rays) / secs).c_str(),
+                double(st.rays + st.shadow_rays) / double(std::max<uint64_t>(st.paths, 1)),
+                static_cast<unsigned long long>(st.dropped), renderer.threads(), renderer.settings().describe().c_str(),
+                o.out.c_str());
+}
+
+}  // namespace
+
+void add_render_command(CLI::App& app) {
+    auto o = std::make_shared<RenderOptions>();
+    CLI::App* cmd = app.add_subcommand("render", "Render a scene headless to an OpenEXR (linear FLOAT RGB + metadata) "
+                                                 "or PNG (tone-mapped sRGB) file");
+    add_common_options(*cmd, o->common);
+    auto* spp = cmd->add_option("--spp", o->spp, "Samples per pixel (default 64 when --time is not given)")
+                    ->check(CLI::Range(1, 1 << 30));
+    cmd->add_option("--time", o->seconds, "Render for this many seconds (whole passes)")
+        ->check(CLI::Range(0.0, 1e9))
+        ->excludes(spp);
+    cmd->add_option("-o,--output", o->out, "Output file: .exr or .png")->required();
+    cmd->add_option("--exposure", o->exposure, "Exposure in stops applied before writing")->capture_default_str();
+    cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
+    cmd->callback([o] { run(*o); });
+}
+
+}  // namespace pv::app

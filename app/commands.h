@@ -1,0 +1,38 @@
+// app/commands.h: the pathview subcommands. Each registers its options on the CLI and runs when chosen.
+#pragma once
+
+#include "core/camera.h"
+#include "core/integrator.h"
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+
+namespace pv::app {
+
+// Options shared by every subcommand that renders: scene, estimator and camera overrides.
+struct CommonOptions {
+    std::string scene;           // empty: the built-in Cornell box
+    int width = 512, height = 512;
+    int threads = 0;             // 0: all cores
+    RenderSettings settings;
+    std::string light_sampling = "on", mis = "on", rr = "on";
+    std::vector<float> eye, target, up;
+    std::optional<float> fov, aperture, focus_distance;
+};
+
+// Adds the shared options to a (sub)command.
+void add_common_options(CLI::App& cmd, CommonOptions& o);
+// Applies the on|off switches to o.settings; throws pv::Error on a bad value.
+void resolve_switches(CommonOptions& o);
+// Applies the camera overrides to `camera`.
+void apply_camera_overrides(const CommonOptions& o, CameraDesc& camera);
+// The scene path to load (the built-in Cornell box when none was given).
+std::string scene_path(const CommonOptions& o);
+
+void add_render_command(CLI::App& app);
+void add_view_command(CLI::App& app, CLI::App*& view_cmd);
+void add_bench_command(CLI::App& app);
+
+}  // namespace pv::app

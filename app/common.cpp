@@ -1,0 +1,59 @@
+// app/common.cpp: options shared by the subcommands that render.
+#include "app/commands.h"
+
+#include "core/error.h"
+
+namespace pv::app {
+namespace {
+
+bool parse_switch(const std::string& name, const std::string& value) {
+    if (value == "on") return true;
+    if (value == "off") return false;
+    throw Error("--" + name + " " + value + ": expected on or off");
+}
+
+vec3 to_vec3(const std::vector<float>& v) { return vec3(v[0], v[1], v[2]); }
+
+}  // namespace
+
+void add_common_options(CLI::App& cmd, CommonOptions& o) {
+    cmd.add_option("scene", o.scene, "Scene: a .json scene file or an .obj (default: the built-in Cornell box)");
+    cmd.add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+    cmd.add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+    cmd.add_option("--threads", o.threads, "Render threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+    cmd.add_option("--seed", o.settings.seed, "Random seed (the image depends only on it, not on threads)")
+        ->capture_default_str();
+    cmd.add_option("--max-depth", o.settings.max_depth,
+                   "Maximum number of scattering events (0: emitters seen directly only)")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
+    cmd.add_option("--light-sampling", o.light_sampling, "Next-event estimation: on|off")->capture_default_str();
+    cmd.add_option("--mis", o.mis, "Multiple importance sampling of light and BSDF samples: on|off")->capture_default_str();
+    cmd.add_option("--rr", o.rr, "Russian roulette: on|off")->capture_default_str();
+    cmd.add_option("--eye", o.eye, "Camera position x,y,z")->expected(3)->delimiter(',');
+    cmd.add_option("--target", o.target, "Camera target x,y,z")->expected(3)->delimiter(',');
+    cmd.add_option("--up", o.up, "Camera up vector x,y,z")->expected(3)->delimiter(',');
+    cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->check(CLI::Range(0.01f, 179.f));
+    cmd.add_option("--aperture", o.aperture, "Thin-lens radius in scene units (0: pinhole)")->check(CLI::Range(0.f, 1e30f));
+    cmd.add_option("--focus-distance", o.focus_distance, "Focus distance in scene units (0: at the target)")
+        ->check(CLI::Range(0.f, 1e30f));
+}
+
+void resolve_switches(CommonOptions& o) {
+    o.settings.light_sampling = parse_switch("light-sampling", o.light_sampling);
+    o.settings.mis = parse_switch("mis", o.mis);
+    o.settings.russian_roulette = parse_switch("rr", o.rr);
+}
+
+void apply_camera_overrides(const CommonOptions& o, CameraDesc& c) {
+    if (o.eye.size() == 3) c.eye = to_vec3(o.eye);
+    if (o.target.size() == 3) c.target = to_vec3(o.target);
+    if (o.up.size() == 3) c.up = to_vec3(o.up);
+    if (o.fov) c.vfov_deg = *o.fov;
+    if (o.aperture) c.aperture = *o.aperture;
+    if (o.focus_distance) c.focus_distance = *o.focus_distance;
+}
+
+std::string scene_path(const CommonOptions& o) { return o.scene.empty() ? builtin_scene_path() : o.scene; }
+
+}  // namespace pv::app

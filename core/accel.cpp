@@ -1,0 +1,140 @@
+// core/accel.cpp: Embree 3 device, scene and queries.
+#include "core/accel.h"
+
+#include "core/error.h"
+
+#include <embree3/rtcore.h>
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+
+namespace pv {
+
+void enable_ftz_daz() {
+    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+}
+
+namespace {
+
+// Embree reports errors through a callback; we keep the first message and throw after the call returns,
+// since throwing through Embree's C frames is not allowed.
+struct DeviceErrors {
+    std::mutex mutex;
+    std::string message;
+};
+
+void on_embree_error(void* user, RTCError code, const char* str) {
+    auto* errors = static_cast<DeviceErrors*>(user);
+    std::lock_guard<std::mutex> lock(errors->mutex);
+    if (errors->message.empty())
+        errors->message = "Embree error " + std::to_string(int(code)) + ": " + (str ? str : "(no message)");
+}
+
+bool on_memory(void* user, ssize_t bytes, bool) {
+    static_cast<std::atomic<int64_t>*>(user)->fetch_add(bytes, std::memory_order_relaxed);
+    return true;
+}
+
+}  // namespace
+
+struct Accel::Impl {
+    DeviceErrors errors;
+    std::atomic<int64_t> memory{0};
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    AccelStats stats;
+
+    void check(const char* what) {
+        std::lock_guard<std::mutex> lock(errors.mutex);
+        if (!errors.message.empty()) throw Error(std::string(what) + ": " + errors.message);
+    }
+    ~Impl() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
+Accel::Accel(const Scene& s) : m_impl(std::make_unique<Impl>()) {
+    const auto start = std::chrono::steady_clock::now();
+    Impl& im = *m_impl;
+    im.device = rtcNewDevice(nullptr);
+    if (!im.device) throw Error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+    rtcSetDeviceErrorFunction(im.device, on_embree_error, &im.errors);
+    rtcSetDeviceMemoryMonitorFunction(im.device, on_memory, &im.memory);
+    im.scene = rtcNewScene(im.device);
+    rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_MEDIUM);
+    if (!s.triangles.empty()) {
+        RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), s.positions.size()));
+        auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(uint32_t), s.triangles.size()));
+        im.check("Embree buffer allocation");
+        std::memcpy(v, s.positions.data(), s.positions.size() * sizeof(vec3));
+        std::memcpy(idx, s.triangles.data(), s.triangles.size() * sizeof(uvec3));
+        rtcCommitGeometry(geom);
+        rtcAttachGeometry(im.scene, geom);
+        rtcReleaseGeometry(geom);
+    }
+    rtcCommitScene(im.scene);
+    im.check("Embree scene build");
+    im.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    im.stats.bytes = static_cast<size_t>(std::max<int64_t>(0, im.memory.load()));
+}
+
+Accel::~Accel() = default;
+
+const AccelStats& Accel::stats() const { return m_impl->stats; }
+
+bool Accel::intersect(const Ray& ray, Hit& hit) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    rh.ray.org_x = ray.o.x;
+    rh.ray.org_y = ray.o.y;
+    rh.ray.org_z = ray.o.z;
+    rh.ray.dir_x = ray.d.x;
+    rh.ray.dir_y = ray.d.y;
+    rh.ray.dir_z = ray.d.z;
+    rh.ray.tnear = 0.f;
+    rh.ray.tfar = ray.tmax;
+    rh.ray.time = 0.f;
+    rh.ray.mask = 0xffffffffu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(m_impl->scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    hit.t = rh.ray.tfar;
+    hit.u = rh.hit.u;
+    hit.v = rh.hit.v;
+    hit.prim = rh.hit.primID;
+    return true;
+}
+
+bool Accel::occluded(const Ray& ray) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay r;
+    r.org_x = ray.o.x;
+    r.org_y = ray.o.y;
+    r.org_z = ray.o.z;
+    r.dir_x = ray.d.x;
+    r.dir_y = ray.d.y;
+    r.dir_z = ray.d.z;
+    r.tnear = 0.f;
+    r.tfar = ray.tmax;
+    r.time = 0.f;
+    r.mask = 0xffffffffu;
+    r.id = 0;
+    r.flags = 0;
+    rtcOccluded1(m_impl->scene, &ctx, &r);
+    return r.tfar < 0.f;  // Embree sets tfar = -inf on a hit
+}
+
+}  // namespace pv

@@ -1,0 +1,45 @@
+// core/accel.h: ray-scene intersection through an Embree 3 BVH built from a Scene's triangles.
+// Embree types stay in accel.cpp. Device errors become pv::Error. Thread-safe for concurrent queries.
+#pragma once
+
+#include "core/camera.h"
+#include "core/scene.h"
+
+#include <memory>
+
+namespace pv {
+
+struct Hit {
+    float t = 0.f;
+    float u = 0.f, v = 0.f;   // barycentrics of vertices 1 and 2
+    uint32_t prim = kNoIndex; // triangle index in the Scene
+};
+
+struct AccelStats {
+    double build_seconds = 0.0;
+    size_t bytes = 0;   // BVH and geometry memory reported by Embree's memory monitor
+};
+
+class Accel {
+public:
+    // Builds the BVH. Throws pv::Error on an Embree device or build error.
+    explicit Accel(const Scene& scene);
+    ~Accel();
+    Accel(const Accel&) = delete;
+    Accel& operator=(const Accel&) = delete;
+
+    // Closest hit with t in [0, ray.tmax]; false if none.
+    bool intersect(const Ray& ray, Hit& hit) const;
+    // True if anything lies along the ray with t in [0, ray.tmax].
+    bool occluded(const Ray& ray) const;
+    const AccelStats& stats() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+// Sets flush-to-zero and denormals-are-zero on the calling thread (Embree's advice for tracing threads).
+void enable_ftz_daz();
+
+}  // namespace pv

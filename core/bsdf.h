@@ -1,0 +1,85 @@
+// core/bsdf.h: surface scattering, a closed set of lobes that MTL files ask for.
+// Conventions: local shading frame, +z = shading normal; wo and wi both point away from the surface;
+// eval() returns f WITHOUT the cosine; sample() returns {f, wi, pdf, is_delta} (not a pre-divided weight).
+// pdfs are per solid angle. Delta lobes: eval() and pdf() return 0. Colours are linear RGB.
+// Reflection-only lobes are two-sided (they treat wo.z < 0 by mirroring); the dielectric uses the sign of wo.z
+// to tell outside (+) from inside (-).
+#pragma once
+
+#include "core/math.h"
+
+#include <optional>
+#include <string>
+#include <variant>
+
+namespace pv {
+
+struct BsdfSample {
+    vec3 f{0.f};
+    vec3 wi{0.f};
+    float pdf = 0.f;
+    bool is_delta = false;
+    float eta = 1.f;  // relative IOR crossed (1 unless refracted); for Russian roulette's eta scale
+};
+
+// Ideal diffuse reflection f = albedo/pi, cosine-weighted sampling.
+struct Lambertian {
+    vec3 albedo{0.8f};
+};
+
+// Perfect specular reflection with constant reflectance.
+struct Mirror {
+    vec3 reflectance{1.f};
+};
+
+// Smooth dielectric interface (glass) with exact unpolarised Fresnel; eta = n_inside / n_outside.
+// Radiance crossing the interface is scaled by 1/eta^2 (radiance transport), so it is not reciprocal in f.
+struct Dielectric {
+    float eta = 1.5f;
+};
+
+// A diffuse base plus a GGX microfacet specular lobe, summed: f = diffuse/pi + specular * D G2 / (4 cos_o cos_i).
+// "specular" is the constant Fresnel reflectance (MTL Ks). The loader keeps diffuse + specular <= 1 per channel,
+// which with GGX's single-scattering albedo <= 1 bounds the material's albedo by 1. Sampling picks a lobe in
+// proportion to the luminance of each weight; the GGX lobe samples visible normals (Heitz 2018).
+// alpha is GGX roughness (alpha = 0 is not allowed: use Mirror).
+struct Glossy {
+    vec3 diffuse{0.f};
+    vec3 specular{0.04f};
+    float alpha = 0.2f;
+};
+
+using Bsdf = std::variant<Lambertian, Mirror, Dielectric, Glossy>;
+
+// f(wo, wi), without the cosine. Zero for delta lobes.
+vec3 eval(const Bsdf& bsdf, vec3 wo, vec3 wi);
+// Solid-angle pdf of sample() producing wi. Zero for delta lobes.
+float pdf(const Bsdf& bsdf, vec3 wo, vec3 wi);
+// Samples wi given wo; u_lobe picks a lobe or the reflect/refract branch, u the direction.
+// Returns nothing where no direction can be produced (grazing wo, below-surface sample, zero weight).
+std::optional<BsdfSample> sample(const Bsdf& bsdf, vec3 wo, float u_lobe, vec2 u);
+// True if every lobe is a delta function (no light sampling is useful).
+bool is_delta(const Bsdf& bsdf);
+const char* bsdf_type_name(const Bsdf& bsdf);
+
+// GGX (Trowbridge-Reitz) helpers, isotropic; exposed for tests.
+float ggx_d(vec3 h, float alpha);
+float ggx_g1(vec3 w, float alpha);
+vec3 ggx_sample_visible_normal(vec3 wo, float alpha, vec2 u);
+// Unpolarised Fresnel reflectance of a dielectric interface; cos_i signed (< 0: from inside), eta = n_in/n_out.
+float fresnel_dielectric(float cos_i, float eta);
+// Blinn-Phong exponent Ns -> GGX alpha: alpha = sqrt(2 / (Ns + 2)) (Walter et al. 2007, eq. 34's Beckmann
+// correspondence, applied to GGX), clamped to [kMinAlpha, 1].
+float alpha_from_ns(float ns);
+constexpr float kMinAlpha = 1e-3f;
+
+// A material: a BSDF plus optional emission. Only what the MTL asked for is present.
+struct Material {
+    std::string name = "default";
+    Bsdf bsdf = Lambertian{};
+    vec3 emission{0.f};             // radiance leaving the front face (Ke)
+    bool two_sided_emission = false;
+    bool has_emission() const { return !is_black(emission); }
+};
+
+}  // namespace pv

@@ -1,0 +1,60 @@
+// core/film.cpp: means, variances and the half-buffer error estimate.
+#include "core/film.h"
+
+namespace pv {
+
+void Film::reset(int width, int height) {
+    m_width = width;
+    m_height = height;
+    m_pixels.assign(size_t(width) * size_t(height), FilmPixel{});
+}
+
+void Film::mean_into(Image& out) const {
+    if (out.width != m_width || out.height != m_height) out = Image(m_width, m_height);
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        const FilmPixel& px = m_pixels[i];
+        const double inv = px.n ? 1.0 / px.n : 0.0;
+        for (int c = 0; c < 3; ++c) out.rgb[i * 3 + c] = static_cast<float>(px.sum[c] * inv);
+    }
+}
+
+Image Film::mean() const {
+    Image out(m_width, m_height);
+    mean_into(out);
+    return out;
+}
+
+Image Film::variance_of_mean() const {
+    Image out(m_width, m_height);
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        const FilmPixel& px = m_pixels[i];
+        for (int c = 0; c < 3; ++c) {
+            double v = 0.0;
+            if (px.n > 1) {
+                const double m = px.sum[c] / px.n;
+                v = std::max(0.0, (px.sum_sq[c] - px.n * m * m) / (px.n - 1)) / px.n;
+            }
+            out.rgb[i * 3 + c] = static_cast<float>(v);
+        }
+    }
+    return out;
+}
+
+double Film::estimated_rel_mse() const {
+    double acc = 0.0;
+    size_t count = 0;
+    for (const FilmPixel& px : m_pixels) {
+        const uint32_t n_odd = px.n - px.n_even;
+        if (px.n_even == 0 || n_odd == 0) continue;
+        for (int c = 0; c < 3; ++c) {
+            const double a = px.sum_even[c] / px.n_even;
+            const double b = (px.sum[c] - px.sum_even[c]) / n_odd;
+            const double m = px.sum[c] / px.n;
+            acc += 0.25 * (a - b) * (a - b) / (m * m + 0.01);
+            ++count;
+        }
+    }
+    return count ? acc / double(count) : 0.0;
+}
+
+}  // namespace pv

@@ -1,0 +1,54 @@
+// core/integrator.h: the path tracer. Solves the rendering equation by Monte Carlo with BSDF importance
+// sampling, optional next-event estimation (light sampling) combined with BSDF sampling by MIS (power heuristic),
+// optional Russian roulette and a depth cap. Every switch combination converges to the same image, except that
+// max_depth truncates paths. max_depth counts scattering events: 0 shows only emitters seen directly.
+#pragma once
+
+#include "core/accel.h"
+#include "core/lights.h"
+#include "core/sampler.h"
+
+#include <cstdint>
+#include <string>
+
+namespace pv {
+
+// The estimator's switches, as plain data. Defaults are unbiased in practice (depth 1024 is never reached
+// with roulette on: survival falls geometrically with throughput).
+struct RenderSettings {
+    bool light_sampling = true;  // next-event estimation over emissive triangles
+    bool mis = true;             // power-heuristic MIS between light and BSDF sampling (needs light_sampling)
+    bool russian_roulette = true;
+    int max_depth = 1024;
+    uint32_t seed = 0;
+
+    bool operator==(const RenderSettings& o) const {
+        return light_sampling == o.light_sampling && mis == o.mis && russian_roulette == o.russian_roulette &&
+               max_depth == o.max_depth && seed == o.seed;
+    }
+    bool operator!=(const RenderSettings& o) const { return !(*this == o); }
+    // One line for logs and EXR metadata, e.g. "nee=on mis=on rr=on max_depth=1024 seed=0".
+    std::string describe() const;
+};
+
+// Per-thread counters, added to the renderer's totals once per tile.
+struct PathCounters {
+    uint64_t rays = 0;         // closest-hit rays
+    uint64_t shadow_rays = 0;  // occlusion rays
+    uint64_t paths = 0;
+    uint64_t vertices = 0;     // surface interactions
+};
+
+// Everything a path needs, read-only and shared by all threads.
+struct SceneView {
+    const Scene* scene = nullptr;
+    const std::vector<Material>* materials = nullptr;
+    const Accel* accel = nullptr;
+    const LightSet* lights = nullptr;
+};
+
+// Radiance arriving along `ray`. Consumes a fixed number of sampler dimensions per bounce.
+vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, Sampler& sampler,
+                PathCounters& counters);
+
+}  // namespace pv

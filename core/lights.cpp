@@ -1,0 +1,79 @@
+// core/lights.cpp: power-proportional selection of emissive triangles and uniform area sampling.
+#include "core/lights.h"
+
+#include "core/warp.h"
+
+#include <algorithm>
+
+namespace pv {
+
+LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials)
+    : m_scene(&scene), m_materials(&materials) {
+    std::vector<double> power;
+    for (uint32_t i = 0; i < scene.triangles.size(); ++i) {
+        const Material& m = materials[scene.material_ids[i]];
+        if (!m.has_emission()) continue;
+        const uvec3 t = scene.triangles[i];
+        const vec3 p0 = scene.positions[t.x];
+        const float area = 0.5f * glm::length(glm::cross(scene.positions[t.y] - p0, scene.positions[t.z] - p0));
+        const double w = double(luminance(m.emission)) * area * (m.two_sided_emission ? 2.0 : 1.0);
+        if (!(area > 0.f) || !(w > 0.0)) continue;
+        m_tris.push_back(i);
+        m_area.push_back(area);
+        power.push_back(w);
+    }
+    if (m_tris.empty()) return;
+    double total = 0.0;
+    for (double w : power) total += w;
+    m_total_power = static_cast<float>(total * kPi);
+    m_pmf.assign(scene.triangles.size(), 0.f);
+    m_cdf.resize(m_tris.size());
+    double acc = 0.0;
+    for (size_t k = 0; k < m_tris.size(); ++k) {
+        acc += power[k];
+        m_cdf[k] = static_cast<float>(acc / total);
+        m_pmf[m_tris[k]] = static_cast<float>(power[k] / total);
+    }
+    m_cdf.back() = 1.f;
+}
+
+std::optional<LightSample> LightSet::sample(vec3 ref, float u_select, vec2 u) const {
+    if (m_tris.empty()) return std::nullopt;
+    const size_t k = std::min<size_t>(std::upper_bound(m_cdf.begin(), m_cdf.end(), u_select) - m_cdf.begin(),
+                                      m_tris.size() - 1);
+    const uint32_t tri = m_tris[k];
+    const uvec3 t = m_scene->triangles[tri];
+    const vec3 p0 = m_scene->positions[t.x], p1 = m_scene->positions[t.y], p2 = m_scene->positions[t.z];
+    const vec2 b = square_to_triangle(u);
+    LightSample ls;
+    ls.p = (1.f - b.x - b.y) * p0 + b.x * p1 + b.y * p2;
+    ls.n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    const vec3 d = ls.p - ref;
+    const float d2 = glm::dot(d, d);
+    if (!(d2 > 0.f)) return std::nullopt;
+    ls.dist = std::sqrt(d2);
+    ls.wi = d / ls.dist;
+    const float cos_l = -glm::dot(ls.n, ls.wi);
+    if (cos_l == 0.f) return std::nullopt;
+    const Material& m = (*m_materials)[m_scene->material_ids[tri]];
+    ls.le = (cos_l > 0.f || m.two_sided_emission) ? m.emission : vec3(0.f);
+    const float pmf = m_pmf[tri];
+    ls.pdf = pmf / m_area[k] * d2 / std::fabs(cos_l);
+    if (!(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return std::nullopt;
+    return ls;
+}
+
+float LightSet::pdf(uint32_t tri, vec3 ref, vec3 p, vec3 n) const {
+    const float pm = pmf(tri);
+    if (pm == 0.f) return 0.f;
+    const uvec3 t = m_scene->triangles[tri];
+    const vec3 p0 = m_scene->positions[t.x];
+    const float area = 0.5f * glm::length(glm::cross(m_scene->positions[t.y] - p0, m_scene->positions[t.z] - p0));
+    const vec3 d = p - ref;
+    const float d2 = glm::dot(d, d);
+    const float cos_l = std::fabs(glm::dot(n, d)) / std::sqrt(d2);
+    if (!(cos_l > 0.f)) return 0.f;
+    return pm / area * d2 / cos_l;
+}
+
+}  // namespace pv

@@ -1,0 +1,72 @@
+// core/math.h: vector types (GLM), constants and small numeric helpers shared by the renderer.
+// Colours are linear RGB in vec3. Directions are unit vectors unless a name says otherwise.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+namespace pv {
+
+using glm::dvec3;
+using glm::ivec2;
+using glm::uvec2;
+using glm::uvec3;
+using glm::vec2;
+using glm::vec3;
+using glm::vec4;
+
+constexpr float kPi = 3.14159265358979323846f;
+constexpr float kInvPi = 0.31830988618379067154f;
+constexpr float kInv2Pi = 0.15915494309189533577f;
+// The largest float below 1 (pbrt's OneMinusEpsilon): uniform samples live in [0, 1).
+constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
+
+inline float max_component(vec3 v) { return glm::max(v.x, glm::max(v.y, v.z)); }
+inline float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+inline bool is_black(vec3 c) { return c.x == 0.f && c.y == 0.f && c.z == 0.f; }
+inline bool is_finite(vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline float safe_sqrt(float x) { return std::sqrt(glm::max(x, 0.f)); }
+inline float sqr(float x) { return x * x; }
+
+// An orthonormal frame around n (+z = n). Construction after Duff et al. 2017,
+// "Building an Orthonormal Basis, Revisited" (JCGT 6(1)): branchless and exact for n = -z.
+struct Frame {
+    vec3 t{1, 0, 0}, b{0, 1, 0}, n{0, 0, 1};
+
+    Frame() = default;
+    explicit Frame(vec3 normal) : n(normal) {
+        const float sign = std::copysign(1.f, n.z);
+        const float a = -1.f / (sign + n.z);
+        const float bb = n.x * n.y * a;
+        t = vec3(1.f + sign * n.x * n.x * a, sign * bb, -sign * n.x);
+        b = vec3(bb, sign + n.y * n.y * a, -n.y);
+    }
+    vec3 to_local(vec3 v) const { return vec3(glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)); }
+    vec3 to_world(vec3 v) const { return v.x * t + v.y * b + v.z * n; }
+};
+
+// Offsets a ray origin p off a surface with geometric normal n (pointing to the side the ray leaves).
+// Method of Waechter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection",
+// Ray Tracing Gems ch. 6: move p by a fixed number of float ULPs along n (scale-invariant far from the origin),
+// and by a small absolute distance near the origin where ULPs are tiny. Spawn with tmin = 0.
+inline vec3 offset_ray_origin(vec3 p, vec3 n) {
+    constexpr float kOrigin = 1.f / 32.f;
+    constexpr float kFloatScale = 1.f / 65536.f;
+    constexpr float kIntScale = 256.f;
+    vec3 out;
+    for (int i = 0; i < 3; ++i) {
+        const int of = static_cast<int>(kIntScale * n[i]);
+        int32_t bits;
+        std::memcpy(&bits, &p[i], 4);
+        bits += (p[i] < 0) ? -of : of;
+        float pi;
+        std::memcpy(&pi, &bits, 4);
+        out[i] = std::fabs(p[i]) < kOrigin ? p[i] + kFloatScale * n[i] : pi;
+    }
+    return out;
+}
+
+}  // namespace pv

@@ -1,0 +1,142 @@
+// core/renderer.cpp: tiles on a TBB arena; counters are per tile, added once per tile (no shared cache
+// lines in the hot loop).
+#include "core/renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+namespace pv {
+
+namespace {
+constexpr int kTile = 16;
+
+struct alignas(64) TileTotals {
+    PathCounters counters;
+    uint64_t dropped = 0;
+};
+}  // namespace
+
+struct Renderer::Pool {
+    tbb::task_arena arena;
+    explicit Pool(int threads) : arena(threads) {}
+};
+
+Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads)
+    : m_scene(std::move(scene)), m_materials(m_scene->materials) {
+    m_threads = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    m_pool = std::make_unique<Pool>(m_threads);
+    m_pool->arena.execute([&] { m_accel = std::make_unique<Accel>(*m_scene); });
+    m_lights = LightSet(*m_scene, m_materials);
+    m_camera = Camera(m_scene->camera, 64, 64);
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::set_materials(const std::vector<Material>& materials) {
+    if (materials.size() != m_scene->materials.size()) return;
+    m_materials = materials;
+    m_lights = LightSet(*m_scene, m_materials);
+}
+
+void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings, int width, int height) {
+    m_camera = Camera(camera, width, height);
+    m_settings = settings;
+    m_film.reset(width, height);
+    m_stats = RenderStats{};
+}
+
+bool Renderer::render_pass(const std::atomic<bool>* cancel) {
+    const auto start = std::chrono::steady_clock::now();
+    const int w = m_film.width(), h = m_film.height();
+    const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
+    const uint32_t index = m_stats.spp;
+    const SceneView view{m_scene.get(), &m_materials, m_accel.get(), &m_lights};
+    std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
+    std::atomic<bool> cancelled{false};
+
+    m_pool->arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 1), [&](const tbb::blocked_range<int>& r) {
+            enable_ftz_daz();
+            for (int tile = r.begin(); tile != r.end(); ++tile) {
+                if (cancel && cancel->load(std::memory_order_relaxed)) {
+                    cancelled.store(true, std::memory_order_relaxed);
+                    return;
+                }
+                TileTotals& tt = totals[size_t(tile)];
+                Sampler sampler(m_settings.seed);
+                const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
+                const int x1 = std::min(x0 + kTile, w), y1 = std::min(y0 + kTile, h);
+                for (int y = y0; y < y1; ++y)
+                    for (int x = x0; x < x1; ++x) {
+                        sampler.start(uvec2(x, y), index);
+                        // Box filter: jitter uniformly over the pixel's area.
+                        const vec2 film = vec2(float(x), float(y)) + sampler.get2d();
+                        const vec2 u_lens = sampler.get2d();
+                        const Ray ray = m_camera.generate(film, u_lens);
+                        const vec3 L = trace_path(view, m_settings, ray, sampler, tt.counters);
+                        if (!m_film.add(x, y, index, L)) tt.dropped++;
+                    }
+            }
+        });
+    });
+    if (cancelled.load()) return false;
+
+    for (const TileTotals& tt : totals) {
+        m_stats.rays += tt.counters.rays;
+        m_stats.shadow_rays += tt.counters.shadow_rays;
+        m_stats.paths += tt.counters.paths;
+        m_stats.vertices += tt.counters.vertices;
+        m_stats.dropped += tt.dropped;
+    }
+    m_stats.spp++;
+    m_stats.last_pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    m_stats.seconds += m_stats.last_pass_seconds;
+    return true;
+}
+
+uint32_t Renderer::pick(vec2 film_px) const {
+    Hit hit;
+    const Ray ray = m_camera.generate(film_px, vec2(0.5f));
+    return m_accel->intersect(ray, hit) ? hit.prim : kNoIndex;
+}
+
+Metadata render_metadata(const Renderer& r) {
+    const RenderStats& st = r.stats();
+    const CameraDesc& c = r.camera().desc();
+    auto v3 = [](vec3 v) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g", v.x, v.y, v.z);
+        return std::string(buf);
+    };
+    Metadata m;
+    m["pathview:spp"] = std::to_string(st.spp);
+    m["pathview:seconds"] = std::to_string(st.seconds);
+    m["pathview:settings"] = r.settings().describe();
+    m["pathview:camera"] = "--eye " + v3(c.eye) + " --target " + v3(c.target) + " --up " + v3(c.up) +
+                           " --fov " + std::to_string(c.vfov_deg) + " --aperture " + std::to_string(c.aperture) +
+                           " --focus-distance " + std::to_string(c.focus_distance);
+    m["pathview:dropped_samples"] = std::to_string(st.dropped);
+    m["pathview:rays"] = std::to_string(st.rays + st.shadow_rays);
+    m["pathview:scene"] = r.scene().source;
+    m["pathview:threads"] = std::to_string(r.threads());
+    return m;
+}
+
+std::string format_si(double value) {
+    const char* units[] = {"", " k", " M", " G", " T"};
+    int u = 0;
+    while (std::fabs(value) >= 1000.0 && u < 4) {
+        value /= 1000.0;
+        ++u;
+    }
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g%s", value, units[u]);
+    return buf;
+}
+
+}  // namespace pv

@@ -1,0 +1,78 @@
+// core/renderer.h: progressive rendering. One pass adds one sample to every pixel, rendered in tiles on a
+// TBB arena of `threads` workers. Random numbers depend only on (pixel, sample index, seed): the image is
+// bit-identical for any thread count. A pass can be cancelled from another thread; restart() then clears
+// the film, so a cancelled pass never leaves samples behind.
+#pragma once
+
+#include "core/accel.h"
+#include "core/camera.h"
+#include "core/film.h"
+#include "core/image_io.h"
+#include "core/integrator.h"
+#include "core/lights.h"
+
+#include <atomic>
+#include <memory>
+
+namespace pv {
+
+struct RenderStats {
+    uint32_t spp = 0;              // completed passes since restart
+    double seconds = 0.0;          // time spent in completed passes
+    uint64_t rays = 0;             // closest-hit rays
+    uint64_t shadow_rays = 0;
+    uint64_t paths = 0;
+    uint64_t vertices = 0;
+    uint64_t dropped = 0;          // non-finite or negative samples dropped
+    double last_pass_seconds = 0.0;
+};
+
+class Renderer {
+public:
+    // Builds the acceleration structure for `scene` (throws pv::Error on failure). threads = 0: all cores.
+    Renderer(std::shared_ptr<const Scene> scene, int threads = 0);
+    ~Renderer();
+
+    // Sets camera, estimator, resolution, and optionally new materials (same count as the scene's; the BVH is
+    // kept), and clears the film. Not concurrent with render_pass().
+    void restart(const CameraDesc& camera, const RenderSettings& settings, int width, int height);
+    void set_materials(const std::vector<Material>& materials);
+
+    // Adds one sample per pixel. Returns false if `cancel` became true during the pass (the film then holds a
+    // partial pass: call restart() before using it).
+    bool render_pass(const std::atomic<bool>* cancel = nullptr);
+
+    const Film& film() const { return m_film; }
+    const RenderStats& stats() const { return m_stats; }
+    const RenderSettings& settings() const { return m_settings; }
+    const Camera& camera() const { return m_camera; }
+    const Scene& scene() const { return *m_scene; }
+    const std::vector<Material>& materials() const { return m_materials; }
+    const Accel& accel() const { return *m_accel; }
+    const LightSet& lights() const { return m_lights; }
+    int threads() const { return m_threads; }
+
+    // Traces one primary ray and returns the hit triangle, or kNoIndex (for picking in the viewer).
+    uint32_t pick(vec2 film_px) const;
+
+private:
+    std::shared_ptr<const Scene> m_scene;
+    std::unique_ptr<Accel> m_accel;
+    std::vector<Material> m_materials;
+    LightSet m_lights;
+    RenderSettings m_settings;
+    Camera m_camera;
+    Film m_film;
+    RenderStats m_stats;
+    int m_threads = 1;
+    struct Pool;
+    std::unique_ptr<Pool> m_pool;
+};
+
+// EXR metadata describing the current accumulation: spp, seconds, settings, camera, dropped samples, scene.
+Metadata render_metadata(const Renderer& renderer);
+
+// "12.3 M" style formatting of a rate, for summaries.
+std::string format_si(double value);
+
+}  // namespace pv

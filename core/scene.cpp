@@ -1,0 +1,47 @@
+// core/scene.cpp: small helpers on Scene.
+#include "core/scene.h"
+
+#include <algorithm>
+#include <filesystem>
+
+namespace pv {
+
+void Scene::add_triangle(vec3 a, vec3 b, vec3 c, uint32_t material) {
+    const uint32_t base = static_cast<uint32_t>(positions.size());
+    positions.insert(positions.end(), {a, b, c});
+    triangles.push_back(uvec3(base, base + 1, base + 2));
+    material_ids.push_back(material);
+    if (!normal_indices.empty()) normal_indices.push_back(uvec3(kNoIndex));
+    if (!uv_indices.empty()) uv_indices.push_back(uvec3(kNoIndex));
+}
+
+void Scene::bounds(vec3& lo, vec3& hi) const {
+    lo = vec3(std::numeric_limits<float>::max());
+    hi = -lo;
+    for (const uvec3& t : triangles)
+        for (int k = 0; k < 3; ++k) {
+            lo = glm::min(lo, positions[t[k]]);
+            hi = glm::max(hi, positions[t[k]]);
+        }
+    if (triangles.empty()) lo = hi = vec3(0.f);
+}
+
+CameraDesc Scene::framing_camera(float vfov_deg) const {
+    vec3 lo, hi;
+    bounds(lo, hi);
+    CameraDesc c;
+    c.vfov_deg = vfov_deg;
+    c.target = 0.5f * (lo + hi);
+    const float radius = std::max(0.5f * glm::length(hi - lo), 1e-3f);
+    const float dist = radius / std::sin(0.5f * glm::radians(vfov_deg)) * 1.05f;
+    c.eye = c.target + vec3(0.f, 0.15f * radius, dist);
+    return c;
+}
+
+std::string builtin_scene_path() {
+    // Next to the executable's source tree at build time; PATHVIEW_ASSETS overrides.
+    if (const char* env = std::getenv("PATHVIEW_ASSETS")) return std::string(env) + "/cornell-box/scene.json";
+    return std::string(PATHVIEW_ASSET_DIR) + "/cornell-box/scene.json";
+}
+
+}  // namespace pv

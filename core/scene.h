@@ -1,0 +1,67 @@
+// core/scene.h: the scene as plain data: one triangle mesh (positions, optional shading normals and UVs),
+// a material per triangle, a camera description and a constant background radiance.
+// World units are whatever the OBJ uses. Triangles are validated on load (see obj_loader.h): every index is in
+// range, every position finite, every triangle of non-zero area.
+#pragma once
+
+#include "core/bsdf.h"
+#include "core/math.h"
+
+#include <string>
+#include <vector>
+
+namespace pv {
+
+// Pinhole or thin-lens camera. vfov in degrees; aperture is the lens radius (0 = pinhole);
+// focus_distance 0 means "focus at the target".
+struct CameraDesc {
+    vec3 eye{0.f, 0.f, 5.f};
+    vec3 target{0.f};
+    vec3 up{0.f, 1.f, 0.f};
+    float vfov_deg = 40.f;
+    float aperture = 0.f;
+    float focus_distance = 0.f;
+};
+
+// What loading dropped or assumed; reported once to the user.
+struct LoadStats {
+    size_t dropped_degenerate = 0;   // zero-area triangles
+    size_t dropped_nonfinite = 0;    // triangles with a non-finite or absurd (> 1e18) vertex
+    size_t dropped_nontriangle = 0;  // faces tinyobjloader could not triangulate
+    size_t default_material_tris = 0;
+    size_t bad_normals = 0;          // corners whose normal was zero/NaN/missing: geometric normal used
+};
+
+constexpr uint32_t kNoIndex = 0xffffffffu;
+
+struct Scene {
+    std::vector<vec3> positions;
+    std::vector<uvec3> triangles;       // indices into positions
+    std::vector<vec3> normals;          // unit shading normals (may be empty)
+    std::vector<uvec3> normal_indices;  // per triangle, into normals; empty, or kNoIndex where absent
+    std::vector<vec2> uvs;
+    std::vector<uvec3> uv_indices;      // per triangle, into uvs; empty, or kNoIndex where absent
+    std::vector<uint32_t> material_ids; // per triangle, into materials
+    std::vector<Material> materials;
+
+    CameraDesc camera;
+    vec3 background{0.f};   // constant radiance of rays that leave the scene
+    bool has_camera = false;
+
+    std::string source;     // the file it came from, for messages
+    LoadStats stats;
+    std::vector<std::string> warnings;
+
+    size_t triangle_count() const { return triangles.size(); }
+    // Appends a triangle with material `material` (tests and generated scenes).
+    void add_triangle(vec3 a, vec3 b, vec3 c, uint32_t material);
+    // Axis-aligned bounds of all vertices.
+    void bounds(vec3& lo, vec3& hi) const;
+    // A camera that frames the whole scene from +z, looking down -z.
+    CameraDesc framing_camera(float vfov_deg = 40.f) const;
+};
+
+// The built-in Cornell box (assets/cornell-box), loaded from the installed assets folder.
+std::string builtin_scene_path();
+
+}  // namespace pv

@@ -1,0 +1,22 @@
+// core/scene_file.h: loading a scene from a JSON scene file or an OBJ alone.
+// JSON (all keys but "obj" optional):
+//   { "obj": "cornell-box.obj",                 // relative to the JSON file
+//     "camera": { "eye": [x,y,z], "target": [x,y,z], "up": [x,y,z], "fov": 39.3,   // vertical, degrees
+//                 "aperture": 0.0, "focus_distance": 0.0 },                         // lens radius; 0 = at target
+//     "background": [r,g,b],                      // constant radiance of escaping rays (default black)
+//     "two_sided_emitters": false,
+//     "materials": { "name": { "type": "diffuse|glossy|mirror|glass", "base_color": [r,g,b],
+//                              "specular": [r,g,b], "roughness": a, "ior": n, "emission": [r,g,b] } } }
+// An OBJ alone is framed automatically from its bounds. Errors are pv::Error naming the file.
+#pragma once
+
+#include "core/scene.h"
+
+#include <string>
+
+namespace pv {
+
+// Loads `path` (.json or .obj). Throws pv::Error with "<file>: what is wrong".
+Scene load_scene(const std::string& path);
+
+}  // namespace pv

@@ -1,0 +1,1 @@
+// ui/ui_placeholder.cpp: the viewer lands here (issue: interactive previewer).
