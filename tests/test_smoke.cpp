@@ -1,0 +1,25 @@
+// tests/test_smoke.cpp: the built-in Cornell box loads and renders a finite image.
+#include "core/renderer.h"
+#include "core/scene_file.h"
+
+#include <gtest/gtest.h>
+
+namespace pv {
+
+TEST(Smoke, CornellBoxRendersFiniteImage) {
+    auto scene = std::make_shared<Scene>(load_scene(builtin_scene_path()));
+    EXPECT_EQ(scene->triangle_count(), 32u);
+    Renderer r(scene, 2);
+    r.restart(scene->camera, RenderSettings{}, 32, 32);
+    ASSERT_TRUE(r.render_pass());
+    const Image img = r.film().mean();
+    double sum = 0;
+    for (float v : img.rgb) {
+        ASSERT_TRUE(std::isfinite(v));
+        sum += v;
+    }
+    EXPECT_GT(sum, 0.0);
+    EXPECT_EQ(r.stats().dropped, 0u);
+}
+
+}  // namespace pv
