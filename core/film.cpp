@@ -40,20 +40,27 @@ Image Film::variance_of_mean() const {
     return out;
 }
 
+std::optional<double> pixel_rel_mse(const FilmPixel& px) {
+    const uint32_t n_odd = px.n - px.n_even;
+    if (px.n_even == 0 || n_odd == 0) return std::nullopt;
+    double acc = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        const double a = px.sum_even[c] / px.n_even;
+        const double b = (px.sum[c] - px.sum_even[c]) / n_odd;
+        const double m = px.sum[c] / px.n;
+        acc += 0.25 * (a - b) * (a - b) / (m * m + 0.01);
+    }
+    return acc / 3.0;
+}
+
 double Film::estimated_rel_mse() const {
     double acc = 0.0;
     size_t count = 0;
-    for (const FilmPixel& px : m_pixels) {
-        const uint32_t n_odd = px.n - px.n_even;
-        if (px.n_even == 0 || n_odd == 0) continue;
-        for (int c = 0; c < 3; ++c) {
-            const double a = px.sum_even[c] / px.n_even;
-            const double b = (px.sum[c] - px.sum_even[c]) / n_odd;
-            const double m = px.sum[c] / px.n;
-            acc += 0.25 * (a - b) * (a - b) / (m * m + 0.01);
+    for (const FilmPixel& px : m_pixels)
+        if (const std::optional<double> e = pixel_rel_mse(px)) {
+            acc += *e;
             ++count;
         }
-    }
     return count ? acc / double(count) : 0.0;
 }
 

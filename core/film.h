@@ -7,6 +7,7 @@
 #include "core/math.h"
 
 #include <atomic>
+#include <optional>
 #include <vector>
 
 namespace pv {
@@ -36,6 +37,9 @@ struct Image {
         rgb[i + 2] = c.z;
     }
 };
+
+// One pixel's term of Film::estimated_rel_mse(), averaged over channels; nothing while a half buffer is empty.
+std::optional<double> pixel_rel_mse(const FilmPixel& px);
 
 class Film {
 public:

@@ -1,0 +1,188 @@
+// core/progressive.cpp: the driver thread. Its loop: take the pending request (restart the film), render one
+// pass with the cancel flag, then publish unless a newer request arrived meanwhile. restart() raises the cancel
+// flag under the same mutex that the driver clears it under when it takes the request, so a pass is cancelled
+// only on behalf of a request the driver has not taken yet.
+#include "core/progressive.h"
+
+namespace pv {
+
+ProgressiveRenderer::ProgressiveRenderer(std::shared_ptr<const Scene> scene, int threads)
+    : m_scene(scene), m_renderer(std::move(scene), threads) {
+    m_thread = std::thread([this] { drive(); });
+}
+
+ProgressiveRenderer::~ProgressiveRenderer() {
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_quit = true;
+        m_cancel.store(true);
+    }
+    m_wake.notify_all();
+    m_thread.join();
+}
+
+uint64_t ProgressiveRenderer::restart(const RenderRequest& request) {
+    uint64_t generation;
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_pending = request;
+        generation = ++m_generation;
+        m_cancel.store(true);
+    }
+    m_wake.notify_all();
+    return generation;
+}
+
+void ProgressiveRenderer::set_paused(bool paused) {
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_paused = paused;
+    }
+    m_wake.notify_all();
+}
+
+void ProgressiveRenderer::set_target(uint32_t target_spp, double target_seconds) {
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_target_spp = target_spp;
+        m_target_seconds = std::max(0.0, target_seconds);
+    }
+    m_wake.notify_all();
+}
+
+void ProgressiveRenderer::set_on_publish(std::function<void()> callback) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    m_on_publish = std::move(callback);
+}
+
+int ProgressiveRenderer::threads() const { return m_renderer.threads(); }
+
+bool ProgressiveRenderer::latest(Snapshot& out) const {
+    std::lock_guard<std::mutex> lock(m_snapshot_mutex);
+    if (m_front.serial <= out.serial) return false;
+    out = m_front;
+    return true;
+}
+
+bool ProgressiveRenderer::wait_for(uint64_t generation, uint32_t min_spp, std::chrono::milliseconds timeout) const {
+    std::unique_lock<std::mutex> lock(m_snapshot_mutex);
+    return m_published.wait_for(lock, timeout, [&] {
+        return m_front.generation > generation || (m_front.generation == generation && m_front.spp >= min_spp);
+    });
+}
+
+std::optional<PickResult> ProgressiveRenderer::pick(const CameraDesc& camera, int width, int height,
+                                                    vec2 film_px) const {
+    // The Camera and the BVH query are local: the driver's Renderer state is not touched.
+    const Camera cam(camera, std::max(width, 1), std::max(height, 1));
+    const Ray ray = cam.generate(film_px, vec2(0.5f));
+    Hit hit;
+    if (!m_renderer.accel().intersect(ray, hit)) return std::nullopt;
+    PickResult r;
+    r.triangle = hit.prim;
+    r.material = m_scene->material_ids[hit.prim];
+    r.distance = hit.t;
+    r.position = ray.o + hit.t * ray.d;
+    return r;
+}
+
+bool ProgressiveRenderer::target_reached() const {
+    const RenderStats& st = m_renderer.stats();
+    return (m_target_spp > 0 && st.spp >= m_target_spp) || (m_target_seconds > 0.0 && st.seconds >= m_target_seconds);
+}
+
+bool ProgressiveRenderer::should_render() const {
+    // A new accumulation gets its first pass even while paused, so the picture follows the camera.
+    return !target_reached() && (!m_paused || m_renderer.stats().spp == 0);
+}
+
+void ProgressiveRenderer::drive() {
+    enable_ftz_daz();
+    bool has_request = false;
+    uint64_t generation = 0;
+    RenderRequest request;
+    for (;;) {
+        bool is_new = false;
+        {
+            std::unique_lock<std::mutex> lock(m_mutex);
+            m_wake.wait(lock, [&] { return m_quit || m_pending || (has_request && should_render()); });
+            if (m_quit) return;
+            if (m_pending) {
+                request = std::move(*m_pending);
+                m_pending.reset();
+                generation = m_generation;
+                m_cancel.store(false);
+                has_request = is_new = true;
+            }
+        }
+        if (is_new) {
+            if (!request.materials.empty()) m_renderer.set_materials(request.materials);
+            m_renderer.restart(request.camera, request.settings, request.width, request.height);
+        }
+        // A cancelled pass leaves a partial film; the pending request restarts it before anything is published.
+        if (!m_renderer.render_pass(&m_cancel)) continue;
+        bool reached;
+        {
+            std::lock_guard<std::mutex> lock(m_mutex);
+            if (m_pending || m_quit) continue;  // superseded: never publish an accumulation nobody asked for
+            reached = target_reached();
+        }
+        publish(generation, reached);
+    }
+}
+
+void ProgressiveRenderer::publish(uint64_t generation, bool target_reached) {
+    // Fill the back buffer outside any lock, then swap it in: the UI's copy never waits for this loop.
+    const Film& film = m_renderer.film();
+    const RenderStats& st = m_renderer.stats();
+    Snapshot& s = m_back;
+    s.generation = generation;
+    s.width = film.width();
+    s.height = film.height();
+    const size_t n = size_t(s.width) * size_t(s.height);
+    s.rgb.resize(n * 3);
+    s.rel_error.resize(n);
+    s.samples.resize(n);
+    double rel_mse_sum = 0.0;
+    size_t rel_mse_count = 0;
+    for (int y = 0, i = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x, ++i) {
+            const FilmPixel& px = film.pixel(x, y);
+            const double inv = px.n ? 1.0 / px.n : 0.0;
+            for (int c = 0; c < 3; ++c) s.rgb[size_t(i) * 3 + c] = static_cast<float>(px.sum[c] * inv);
+            const std::optional<double> e = pixel_rel_mse(px);
+            s.rel_error[size_t(i)] = e ? static_cast<float>(std::sqrt(*e)) : 0.f;
+            s.samples[size_t(i)] = static_cast<float>(px.n);
+            if (e) {
+                rel_mse_sum += *e;
+                ++rel_mse_count;
+            }
+        }
+    s.spp = st.spp;
+    s.seconds = st.seconds;
+    s.rays = st.rays + st.shadow_rays;
+    s.paths = st.paths;
+    s.dropped = st.dropped;
+    s.mrays_per_s = st.seconds > 0.0 ? double(s.rays) / st.seconds * 1e-6 : 0.0;
+    s.ms_per_pass = st.last_pass_seconds * 1e3;
+    s.rel_mse = rel_mse_count ? rel_mse_sum / double(rel_mse_count) : 0.0;  // == film.estimated_rel_mse()
+    s.target_reached = target_reached;
+    s.camera = m_renderer.camera().desc();
+    s.settings = m_renderer.settings();
+    s.metadata = render_metadata(m_renderer);
+
+    std::function<void()> on_publish;
+    {
+        std::lock_guard<std::mutex> lock(m_snapshot_mutex);
+        s.serial = m_front.serial + 1;
+        std::swap(m_front, m_back);
+    }
+    m_published.notify_all();
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        on_publish = m_on_publish;
+    }
+    if (on_publish) on_publish();
+}
+
+}  // namespace pv

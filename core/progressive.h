@@ -1,0 +1,120 @@
+// core/progressive.h: the asynchronous driver of a Renderer, for the viewer. A driver thread renders passes back
+// to back; restart() only posts a request (camera, settings, size, materials) and never waits: the pass in flight
+// is cancelled and the film is restarted before the next pass, so no sample of an older request ever lands in a
+// newer accumulation. After each completed pass the driver publishes a Snapshot under a mutex held only for the
+// copy. Every snapshot carries the generation of the request it belongs to (restart() returns it).
+#pragma once
+
+#include "core/renderer.h"
+
+#include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+namespace pv {
+
+// What the driver should render. materials: empty = keep the current ones (same count as the scene's).
+struct RenderRequest {
+    CameraDesc camera;
+    RenderSettings settings;
+    int width = 1, height = 1;
+    std::vector<Material> materials;
+};
+
+// The published state of one accumulation after a completed pass. Images are row-major from the top-left.
+struct Snapshot {
+    uint64_t generation = 0;   // restart() that this accumulation belongs to (0: nothing rendered yet)
+    uint64_t serial = 0;       // increases with every publication
+    int width = 0, height = 0;
+    std::vector<float> rgb;        // mean radiance, 3 floats per pixel
+    std::vector<float> rel_error;  // per-pixel relative RMS error of the mean from the half buffers (0 if < 2 spp)
+    std::vector<float> samples;    // accepted samples per pixel
+    uint32_t spp = 0;
+    double seconds = 0.0;          // time spent in completed passes since the restart
+    uint64_t rays = 0;             // closest-hit + shadow rays
+    uint64_t paths = 0;
+    uint64_t dropped = 0;
+    double mrays_per_s = 0.0;
+    double ms_per_pass = 0.0;      // the last pass
+    double rel_mse = 0.0;          // Film::estimated_rel_mse(); 0 below 2 spp
+    bool target_reached = false;   // rendering stopped at the target spp / seconds
+    CameraDesc camera;
+    RenderSettings settings;
+    Metadata metadata;             // render_metadata() of this accumulation, for EXR snapshots
+};
+
+// Details of the surface under a pixel (for picking materials, re-targeting the orbit and focusing).
+struct PickResult {
+    uint32_t triangle = kNoIndex;
+    uint32_t material = kNoIndex;
+    float distance = 0.f;   // along the unit primary ray
+    vec3 position{0.f};
+};
+
+class ProgressiveRenderer {
+public:
+    // Builds the Renderer (BVH; throws pv::Error) and starts the driver thread, idle until the first restart().
+    ProgressiveRenderer(std::shared_ptr<const Scene> scene, int threads = 0);
+    // Cancels the pass in flight and joins the driver thread.
+    ~ProgressiveRenderer();
+    ProgressiveRenderer(const ProgressiveRenderer&) = delete;
+    ProgressiveRenderer& operator=(const ProgressiveRenderer&) = delete;
+
+    // Posts a new request and returns its generation. Never blocks on a pass.
+    uint64_t restart(const RenderRequest& request);
+    // Pausing stops after the pass in flight (which is still published); resuming continues the accumulation.
+    void set_paused(bool paused);
+    // Stops rendering (target_reached) once spp >= target_spp or seconds >= target_seconds; 0 = no target.
+    void set_target(uint32_t target_spp, double target_seconds);
+
+    // Copies the latest snapshot into `out` if its serial is newer than out.serial; returns whether it did.
+    bool latest(Snapshot& out) const;
+    // Blocks until a snapshot of `generation` with spp >= min_spp is published, or the timeout passes
+    // (tests and tools; the viewer never waits).
+    bool wait_for(uint64_t generation, uint32_t min_spp, std::chrono::milliseconds timeout) const;
+    // Called on the driver thread after each publication (the viewer wakes its event loop with it).
+    // Set before the first restart().
+    void set_on_publish(std::function<void()> callback);
+
+    // Traces the primary ray through film pixel `film_px` of an image of width x height seen by `camera`.
+    // Thread-safe (the BVH is read-only); nothing when the ray escapes.
+    std::optional<PickResult> pick(const CameraDesc& camera, int width, int height, vec2 film_px) const;
+    const Scene& scene() const { return *m_scene; }
+    int threads() const;
+
+private:
+    void drive();
+    // Under m_mutex, on the driver thread.
+    bool target_reached() const;
+    bool should_render() const;
+    void publish(uint64_t generation, bool target_reached);
+
+    std::shared_ptr<const Scene> m_scene;
+    Renderer m_renderer;  // used by the driver thread only, apart from its read-only BVH and scene
+    std::atomic<bool> m_cancel{false};
+
+    // Requests and control, under m_mutex.
+    mutable std::mutex m_mutex;
+    std::condition_variable m_wake;
+    std::optional<RenderRequest> m_pending;
+    uint64_t m_generation = 0;   // of the last request posted
+    bool m_paused = false;
+    bool m_quit = false;
+    uint32_t m_target_spp = 0;
+    double m_target_seconds = 0.0;
+    bool m_target_reached = false;  // for the generation the driver is rendering
+    std::function<void()> m_on_publish;
+
+    // The published snapshot, under m_snapshot_mutex; the driver fills m_back outside it.
+    mutable std::mutex m_snapshot_mutex;
+    mutable std::condition_variable m_published;
+    Snapshot m_front;
+    Snapshot m_back;
+
+    std::thread m_thread;  // last: started after everything above exists
+};
+
+}  // namespace pv
