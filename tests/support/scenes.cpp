@@ -1,0 +1,144 @@
+// tests/support/scenes.cpp: see scenes.h.
+#include "tests/support/scenes.h"
+
+#include "core/renderer.h"
+#include "core/scene_file.h"
+
+#include <map>
+#include <mutex>
+
+namespace pv::test {
+
+uint32_t add_material(Scene& scene, const Material& m) {
+    scene.materials.push_back(m);
+    return static_cast<uint32_t>(scene.materials.size() - 1);
+}
+
+void add_quad(Scene& scene, vec3 p0, vec3 p1, vec3 p2, vec3 p3, uint32_t material) {
+    scene.add_triangle(p0, p1, p2, material);
+    scene.add_triangle(p0, p2, p3, material);
+}
+
+void add_icosphere(Scene& scene, vec3 centre, float radius, int subdiv, uint32_t material, bool inward) {
+    const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+    std::vector<dvec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                            {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    for (dvec3& p : v) p = glm::normalize(p);
+    std::vector<uvec3> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                            {11, 10, 2}, {10, 7, 6}, {7, 1, 8},   {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                            {3, 8, 9},   {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    for (int s = 0; s < subdiv; ++s) {
+        std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
+        auto midpoint = [&](uint32_t a, uint32_t b) {
+            const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+            auto it = mid.find(key);
+            if (it != mid.end()) return it->second;
+            v.push_back(glm::normalize(v[a] + v[b]));
+            const uint32_t id = static_cast<uint32_t>(v.size() - 1);
+            mid[key] = id;
+            return id;
+        };
+        std::vector<uvec3> nf;
+        for (const uvec3& tri : f) {
+            const uint32_t a = midpoint(tri.x, tri.y), b = midpoint(tri.y, tri.z), c = midpoint(tri.z, tri.x);
+            nf.insert(nf.end(), {{tri.x, a, c}, {tri.y, b, a}, {tri.z, c, b}, {a, b, c}});
+        }
+        f.swap(nf);
+    }
+    const uint32_t base = static_cast<uint32_t>(scene.positions.size());
+    for (const dvec3& p : v) scene.positions.push_back(centre + radius * vec3(p));
+    for (const uvec3& tri : f) {
+        scene.triangles.push_back(inward ? uvec3(base + tri.x, base + tri.z, base + tri.y) : base + tri);
+        scene.material_ids.push_back(material);
+        if (!scene.normal_indices.empty()) scene.normal_indices.push_back(uvec3(kNoIndex));
+        if (!scene.uv_indices.empty()) scene.uv_indices.push_back(uvec3(kNoIndex));
+    }
+}
+
+void add_uv_sphere(Scene& scene, vec3 centre, float radius, int nu, int nv, uint32_t material, bool smooth) {
+    auto dir = [&](int i, int j) {
+        const double phi = 2.0 * M_PI * double(i % nu) / nu, theta = M_PI * double(j) / nv;
+        return dvec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+    };
+    if (smooth && scene.normal_indices.size() != scene.triangles.size())
+        scene.normal_indices.assign(scene.triangles.size(), uvec3(kNoIndex));
+    for (int j = 0; j < nv; ++j)
+        for (int i = 0; i < nu; ++i) {
+            // Outward winding: (i, j), (i, j+1), (i+1, j+1) ... seen from outside.
+            const dvec3 a = dir(i, j), b = dir(i + 1, j), c = dir(i + 1, j + 1), d = dir(i, j + 1);
+            auto tri = [&](dvec3 p, dvec3 q, dvec3 r) {
+                const vec3 pp = centre + radius * vec3(p);
+                vec3 qq = centre + radius * vec3(q), rr = centre + radius * vec3(r);
+                if (glm::length(glm::cross(qq - pp, rr - pp)) == 0.f) return;  // pole slivers
+                vec3 n0 = vec3(p), n1 = vec3(q), n2 = vec3(r);
+                // Orient outward.
+                if (glm::dot(glm::cross(qq - pp, rr - pp), pp + qq + rr - 3.f * centre) < 0.f) {
+                    std::swap(qq, rr);
+                    std::swap(n1, n2);
+                }
+                scene.add_triangle(pp, qq, rr, material);
+                if (smooth && scene.normal_indices.size() < scene.triangles.size())
+                    scene.normal_indices.push_back(uvec3(kNoIndex));
+                if (smooth) {
+                    const uint32_t nb = static_cast<uint32_t>(scene.normals.size());
+                    scene.normals.insert(scene.normals.end(), {n0, n1, n2});
+                    scene.normal_indices.back() = uvec3(nb, nb + 1, nb + 2);
+                }
+            };
+            tri(a, d, c);
+            tri(a, c, b);
+        }
+}
+
+Tracer::Tracer(std::shared_ptr<const Scene> scene) : m_scene(std::move(scene)) {
+    m_accel = std::make_unique<Accel>(*m_scene);
+    m_lights = LightSet(*m_scene, m_scene->materials);
+}
+
+void Tracer::for_each_sample(const CameraDesc& camera_desc, const RenderSettings& settings, int width, int height,
+                             int spp, const std::function<void(int, int, uint32_t, vec3)>& fn,
+                             bool pixel_centre) const {
+    const Camera camera(camera_desc, width, height);
+    const SceneView v = view();
+    Sampler sampler(settings.seed);
+    PathCounters counters;
+    for (int index = 0; index < spp; ++index)
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                sampler.start(uvec2(x, y), uint32_t(index));
+                vec2 film = vec2(float(x), float(y)) + sampler.get2d();
+                if (pixel_centre) film = vec2(float(x) + 0.5f, float(y) + 0.5f);
+                const vec2 u_lens = sampler.get2d();
+                const Ray ray = camera.generate(film, u_lens);
+                fn(x, y, uint32_t(index), trace_path(v, settings, ray, sampler, counters));
+            }
+}
+
+Film Tracer::render(const CameraDesc& camera, const RenderSettings& settings, int width, int height, int spp,
+                    bool pixel_centre, uint64_t* dropped) const {
+    Film film(width, height);
+    uint64_t drops = 0;
+    for_each_sample(camera, settings, width, height, spp,
+                    [&](int x, int y, uint32_t i, vec3 L) { drops += film.add(x, y, i, L) ? 0 : 1; }, pixel_centre);
+    if (dropped) *dropped = drops;
+    return film;
+}
+
+Film render_with_renderer(std::shared_ptr<const Scene> scene, const CameraDesc& camera, const RenderSettings& settings,
+                          int width, int height, int spp, int threads, uint64_t* dropped) {
+    Renderer r(std::move(scene), threads);
+    r.restart(camera, settings, width, height);
+    for (int i = 0; i < spp; ++i) r.render_pass();
+    if (dropped) *dropped = r.stats().dropped;
+    return r.film();
+}
+
+std::shared_ptr<const Scene> cornell_box() {
+    static std::mutex mutex;
+    static std::shared_ptr<const Scene> scene;
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!scene) scene = std::make_shared<Scene>(load_scene(builtin_scene_path()));
+    return scene;
+}
+
+}  // namespace pv::test

@@ -1,0 +1,60 @@
+// tests/support/scenes.h: scenes built in code for the analytic and statistical tests (spheres, boxes, quads),
+// and two ways to render them: through the Renderer (as `pathview render` does) and sample by sample through
+// trace_path with the Renderer's camera-sample convention, so a test can inspect every sample.
+#pragma once
+
+#include "core/accel.h"
+#include "core/camera.h"
+#include "core/film.h"
+#include "core/integrator.h"
+#include "core/lights.h"
+#include "core/scene.h"
+
+#include <functional>
+#include <memory>
+
+namespace pv::test {
+
+// Appends a material and returns its index.
+uint32_t add_material(Scene& scene, const Material& m);
+// Quad p0 p1 p2 p3 (counter-clockwise seen from the front): triangles (p0 p1 p2), (p0 p2 p3); normal cross(p1-p0, p2-p0).
+void add_quad(Scene& scene, vec3 p0, vec3 p1, vec3 p2, vec3 p3, uint32_t material);
+// Geodesic sphere: icosahedron subdivided `subdiv` times (20 * 4^subdiv triangles). Faces point outward, or
+// inward when `inward` (an enclosure seen from inside).
+void add_icosphere(Scene& scene, vec3 centre, float radius, int subdiv, uint32_t material, bool inward = false);
+// Latitude-longitude sphere with nu segments around and nv rings; with `smooth`, per-vertex shading normals
+// (the exact sphere normals), which makes a low-poly sphere's shading disagree with its facets.
+void add_uv_sphere(Scene& scene, vec3 centre, float radius, int nu, int nv, uint32_t material, bool smooth);
+
+// A scene prepared for tracing: BVH and light set, shared read-only.
+class Tracer {
+public:
+    explicit Tracer(std::shared_ptr<const Scene> scene);
+    const Scene& scene() const { return *m_scene; }
+    const Accel& accel() const { return *m_accel; }
+    const LightSet& lights() const { return m_lights; }
+    SceneView view() const { return SceneView{m_scene.get(), &m_scene->materials, m_accel.get(), &m_lights}; }
+
+    // Calls fn(x, y, index, L) for `spp` samples of every pixel, single-threaded, with the Renderer's sample
+    // layout (sampler.start(pixel, index); film jitter; lens; trace_path). With pixel_centre the camera ray goes
+    // through the pixel centre instead (the jitter dimensions are still consumed).
+    void for_each_sample(const CameraDesc& camera, const RenderSettings& settings, int width, int height, int spp,
+                         const std::function<void(int, int, uint32_t, vec3)>& fn, bool pixel_centre = false) const;
+    // Accumulates for_each_sample into a Film (dropped samples counted into *dropped when given).
+    Film render(const CameraDesc& camera, const RenderSettings& settings, int width, int height, int spp,
+                bool pixel_centre = false, uint64_t* dropped = nullptr) const;
+
+private:
+    std::shared_ptr<const Scene> m_scene;
+    std::unique_ptr<Accel> m_accel;
+    LightSet m_lights;
+};
+
+// Renders through the Renderer (threads workers, spp passes) and returns its film.
+Film render_with_renderer(std::shared_ptr<const Scene> scene, const CameraDesc& camera, const RenderSettings& settings,
+                          int width, int height, int spp, int threads = 2, uint64_t* dropped = nullptr);
+
+// The built-in Cornell box, loaded once per process.
+std::shared_ptr<const Scene> cornell_box();
+
+}  // namespace pv::test
