@@ -42,6 +42,7 @@ void run(RenderOptions& o) {
         throw Error(o.out + ": unknown image format '" + ext + "'; expected .exr or .png");
 
     auto scene = std::make_shared<Scene>(load_scene(path));
+    apply_scene_overrides(o.common, *scene);
     for (const std::string& w : scene->warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
     CameraDesc camera = scene->camera;
     apply_camera_overrides(o.common, camera);

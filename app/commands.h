@@ -18,8 +18,11 @@ struct CommonOptions {
     int threads = 0;             // 0: all cores
     RenderSettings settings;
     std::string light_sampling = "on", mis = "on", rr = "on";
+    std::string sampler = sampler_name(RenderSettings{}.sampler);
     std::vector<float> eye, target, up;
     std::optional<float> fov, aperture, focus_distance;
+    std::string environment;                    // "r,g,b", a number, a map file, or "sky"
+    std::optional<float> env_rotation, env_strength;
 };
 
 // Adds the shared options to a (sub)command.
@@ -28,6 +31,8 @@ void add_common_options(CLI::App& cmd, CommonOptions& o);
 void resolve_switches(CommonOptions& o);
 // Applies the camera overrides to `camera`.
 void apply_camera_overrides(const CommonOptions& o, CameraDesc& camera);
+// Applies --environment / --env-rotation / --env-strength to a loaded scene (throws pv::Error on bad values).
+void apply_scene_overrides(const CommonOptions& o, Scene& scene);
 // The scene path to load (the built-in Cornell box when none was given).
 std::string scene_path(const CommonOptions& o);
 

@@ -2,6 +2,9 @@
 #include "app/commands.h"
 
 #include "core/error.h"
+#include "core/scene_file.h"
+
+#include <algorithm>
 
 namespace pv::app {
 namespace {
@@ -30,6 +33,8 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
     cmd.add_option("--light-sampling", o.light_sampling, "Next-event estimation: on|off")->capture_default_str();
     cmd.add_option("--mis", o.mis, "Multiple importance sampling of light and BSDF samples: on|off")->capture_default_str();
     cmd.add_option("--rr", o.rr, "Russian roulette: on|off")->capture_default_str();
+    cmd.add_option("--sampler", o.sampler, "Sample generator: independent|sobol (Owen-scrambled, padded)")
+        ->capture_default_str();
     cmd.add_option("--eye", o.eye, "Camera position x,y,z")->expected(3)->delimiter(',');
     cmd.add_option("--target", o.target, "Camera target x,y,z")->expected(3)->delimiter(',');
     cmd.add_option("--up", o.up, "Camera up vector x,y,z")->expected(3)->delimiter(',');
@@ -37,12 +42,20 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
     cmd.add_option("--aperture", o.aperture, "Thin-lens radius in scene units (0: pinhole)")->check(CLI::Range(0.f, 1e30f));
     cmd.add_option("--focus-distance", o.focus_distance, "Focus distance in scene units (0: at the target)")
         ->check(CLI::Range(0.f, 1e30f));
+    cmd.add_option("--environment", o.environment,
+                   "Light from far away: r,g,b or one number (constant radiance), 'sky' (the default sky), or an "
+                   "equirectangular map (.exr, .hdr, .png)");
+    cmd.add_option("--env-rotation", o.env_rotation, "Environment rotation about +y, degrees");
+    cmd.add_option("--env-strength", o.env_strength, "Environment radiance multiplier")->check(CLI::Range(0.f, 1e30f));
 }
 
 void resolve_switches(CommonOptions& o) {
     o.settings.light_sampling = parse_switch("light-sampling", o.light_sampling);
     o.settings.mis = parse_switch("mis", o.mis);
     o.settings.russian_roulette = parse_switch("rr", o.rr);
+    const auto kind = parse_sampler(o.sampler);
+    if (!kind) throw Error("--sampler " + o.sampler + ": expected independent or sobol");
+    o.settings.sampler = *kind;
 }
 
 void apply_camera_overrides(const CommonOptions& o, CameraDesc& c) {
@@ -52,6 +65,19 @@ void apply_camera_overrides(const CommonOptions& o, CameraDesc& c) {
     if (o.fov) c.vfov_deg = *o.fov;
     if (o.aperture) c.aperture = *o.aperture;
     if (o.focus_distance) c.focus_distance = *o.focus_distance;
+}
+
+void apply_scene_overrides(const CommonOptions& o, Scene& scene) {
+    if (!o.environment.empty()) {
+        set_environment(scene, o.environment);
+        // The default-sky notice no longer applies.
+        auto& w = scene.warnings;
+        w.erase(std::remove_if(w.begin(), w.end(),
+                               [](const std::string& m) { return m.find("default sky") != std::string::npos; }),
+                w.end());
+    }
+    if (o.env_rotation) scene.environment_rotation_deg = *o.env_rotation;
+    if (o.env_strength) scene.environment_strength = *o.env_strength;
 }
 
 std::string scene_path(const CommonOptions& o) { return o.scene.empty() ? builtin_scene_path() : o.scene; }

@@ -2,11 +2,13 @@
 #include "core/accel.h"
 
 #include "core/error.h"
+#include "core/rng.h"
 
 #include <embree3/rtcore.h>
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <mutex>
@@ -37,6 +39,33 @@ void on_embree_error(void* user, RTCError code, const char* str) {
 bool on_memory(void* user, ssize_t bytes, bool) {
     static_cast<std::atomic<int64_t>*>(user)->fetch_add(bytes, std::memory_order_relaxed);
     return true;
+}
+
+// Stochastic alpha test (Enderton et al. 2010, "Stochastic Transparency"): a hit on a texel of opacity a is
+// kept with probability a, decided by a hash of the ray and the triangle, so the decision is deterministic per ray
+// and light passes through in proportion 1 - a. Runs for camera, bounce and shadow rays alike.
+void alpha_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* scene = static_cast<const Scene*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
+        const Material& m = scene->materials[scene->material_ids[prim]];
+        if (m.alpha_texture == kNoIndex) continue;
+        const vec2 uv = scene->uv_at(prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+        const float alpha = scene->textures[m.alpha_texture].lookup(uv).w;
+        if (alpha >= 1.f) continue;
+        uint64_t h = prim;
+        const float key[6] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                              RTCRayN_org_z(args->ray, args->N, i), RTCRayN_dir_x(args->ray, args->N, i),
+                              RTCRayN_dir_y(args->ray, args->N, i), RTCRayN_dir_z(args->ray, args->N, i)};
+        for (float k : key) {
+            uint32_t bits;
+            std::memcpy(&bits, &k, 4);
+            h = hash_combine(h, bits);
+        }
+        const float u = float(h >> 40) * 0x1p-24f;
+        if (u >= alpha) args->valid[i] = 0;
+    }
 }
 
 }  // namespace
@@ -76,6 +105,12 @@ Accel::Accel(const Scene& s) : m_impl(std::make_unique<Impl>()) {
         im.check("Embree buffer allocation");
         std::memcpy(v, s.positions.data(), s.positions.size() * sizeof(vec3));
         std::memcpy(idx, s.triangles.data(), s.triangles.size() * sizeof(uvec3));
+        if (std::any_of(s.materials.begin(), s.materials.end(), [](const Material& m) { return m.alpha_texture != kNoIndex; })) {
+            // Alpha cut-outs: only scenes that have them pay for the filter callbacks.
+            rtcSetGeometryUserData(geom, const_cast<Scene*>(&s));
+            rtcSetGeometryIntersectFilterFunction(geom, alpha_filter);
+            rtcSetGeometryOccludedFilterFunction(geom, alpha_filter);
+        }
         rtcCommitGeometry(geom);
         rtcAttachGeometry(im.scene, geom);
         rtcReleaseGeometry(geom);

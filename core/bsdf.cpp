@@ -181,6 +181,11 @@ std::optional<BsdfSample> sample(const Bsdf& bsdf, vec3 wo, float u_lobe, vec2 u
 bool is_delta(const Bsdf& bsdf) {
     return std::holds_alternative<Mirror>(bsdf) || std::holds_alternative<Dielectric>(bsdf);
 }
+void set_base_color(Bsdf& bsdf, vec3 color) {
+    if (auto* l = std::get_if<Lambertian>(&bsdf)) l->albedo = glm::clamp(color, vec3(0.f), vec3(1.f));
+    if (auto* g = std::get_if<Glossy>(&bsdf)) g->diffuse = glm::clamp(color, vec3(0.f), vec3(1.f) - g->specular);
+}
+
 const char* bsdf_type_name(const Bsdf& bsdf) {
     static const char* names[] = {"diffuse", "mirror", "glass", "glossy"};
     return names[bsdf.index()];

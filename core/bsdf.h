@@ -61,6 +61,8 @@ std::optional<BsdfSample> sample(const Bsdf& bsdf, vec3 wo, float u_lobe, vec2 u
 // True if every lobe is a delta function (no light sampling is useful).
 bool is_delta(const Bsdf& bsdf);
 const char* bsdf_type_name(const Bsdf& bsdf);
+// Sets the diffuse colour (Lambertian albedo, Glossy diffuse clamped so diffuse + specular <= 1); others unchanged.
+void set_base_color(Bsdf& bsdf, vec3 color);
 
 // GGX (Trowbridge-Reitz) helpers, isotropic; exposed for tests.
 float ggx_d(vec3 h, float alpha);
@@ -79,6 +81,8 @@ struct Material {
     Bsdf bsdf = Lambertian{};
     vec3 emission{0.f};             // radiance leaving the front face (Ke)
     bool two_sided_emission = false;
+    uint32_t base_color_texture = kNoIndex;  // index into Scene::textures (map_Kd), replaces the base colour
+    uint32_t alpha_texture = kNoIndex;       // index into Scene::textures (map_d): stochastic cut-out
     bool has_emission() const { return !is_black(emission); }
 };
 

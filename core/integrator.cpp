@@ -49,7 +49,7 @@ inline Surface surface_at(const Scene& s, const Hit& hit) {
 std::string RenderSettings::describe() const {
     return std::string("nee=") + (light_sampling ? "on" : "off") + " mis=" + (mis ? "on" : "off") +
            " rr=" + (russian_roulette ? "on" : "off") + " max_depth=" + std::to_string(max_depth) +
-           " seed=" + std::to_string(seed);
+           " seed=" + std::to_string(seed) + " sampler=" + sampler_name(sampler);
 }
 
 vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, Sampler& sampler,
@@ -57,7 +57,9 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
     const Scene& scene = *view.scene;
     const std::vector<Material>& materials = *view.materials;
     const LightSet& lights = *view.lights;
-    const bool nee = settings.light_sampling && !lights.empty();
+    const Environment& env = *view.environment;
+    const float p_env = environment_selection_probability(view);
+    const bool nee = settings.light_sampling && (!lights.empty() || p_env > 0.f);
     const bool mis = nee && settings.mis;
 
     vec3 L(0.f), beta(1.f);
@@ -71,13 +73,27 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         Hit hit;
         counters.rays++;
         if (!view.accel->intersect(ray, hit)) {
-            // The background is not light-sampled, so BSDF sampling carries it with weight 1.
-            L += beta * scene.background;
+            // The environment: weighted against its own light sampling, as for emissive triangles.
+            if (!env.is_black()) {
+                const vec3 le = env.eval(ray.d);
+                if (!nee || specular_bounce)
+                    L += beta * le;
+                else if (mis)
+                    L += beta * le * power_heuristic(prev_pdf, p_env * env.pdf(ray.d));
+            }
             break;
         }
         counters.vertices++;
         const Surface sf = surface_at(scene, hit);
         const Material& mat = materials[scene.material_ids[hit.prim]];
+        // Only textured materials pay for the texture lookup and a local copy of the BSDF.
+        Bsdf textured;
+        const Bsdf* bsdf = &mat.bsdf;
+        if (mat.base_color_texture != kNoIndex) {
+            textured = mat.bsdf;
+            set_base_color(textured, vec3(scene.textures[mat.base_color_texture].lookup(scene.uv_at(hit.prim, hit.u, hit.v))));
+            bsdf = &textured;
+        }
         const vec3 wo_world = -ray.d;
         const bool front = glm::dot(wo_world, sf.ng) > 0.f;
 
@@ -86,7 +102,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
             if (!nee || specular_bounce) {
                 L += beta * mat.emission;
             } else if (mis) {
-                const float light_pdf = lights.pdf(hit.prim, prev_p, sf.p, sf.ng);
+                const float light_pdf = (1.f - p_env) * lights.pdf(hit.prim, prev_p, sf.p, sf.ng);
                 L += beta * mat.emission * power_heuristic(prev_pdf, light_pdf);
             }
         }
@@ -113,21 +129,39 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         const float u_rr = sampler.get1d();
 
         // Next-event estimation.
-        if (nee && !is_delta(mat.bsdf)) {
-            if (auto ls = lights.sample(sf.p, u_light_select, u_light); ls && !is_black(ls->le)) {
+        if (nee && !is_delta(*bsdf)) {
+            // Choose the environment or a triangle; the selection probability folds into the pdf.
+            std::optional<LightSample> ls;
+            if (u_light_select < p_env) {
+                if (auto es = env.sample(u_light)) {
+                    ls.emplace();
+                    ls->wi = es->wi;
+                    ls->le = es->le;
+                    ls->pdf = p_env * es->pdf;
+                    ls->dist = std::numeric_limits<float>::infinity();
+                }
+            } else if (auto ts = lights.sample(sf.p, (u_light_select - p_env) / (1.f - p_env), u_light)) {
+                ls = ts;
+                ls->pdf *= 1.f - p_env;
+            }
+            if (ls && !is_black(ls->le)) {
                 const vec3 wi = frame.to_local(ls->wi);
                 const bool same_side = (glm::dot(ls->wi, ng) > 0.f) == (wi.z > 0.f);
-                const vec3 f = same_side ? eval(mat.bsdf, wo, wi) : vec3(0.f);
+                const vec3 f = same_side ? eval(*bsdf, wo, wi) : vec3(0.f);
                 if (!is_black(f)) {
                     // Shadow ray between offset endpoints; t in [0, 1) of the unnormalised segment.
                     Ray shadow;
                     shadow.o = offset_ray_origin(sf.p, glm::dot(ls->wi, sf.ng) > 0.f ? sf.ng : -sf.ng);
-                    const vec3 target = offset_ray_origin(ls->p, glm::dot(ls->wi, ls->n) < 0.f ? ls->n : -ls->n);
-                    shadow.d = target - shadow.o;
-                    shadow.tmax = 1.f - 1e-4f;  // pbrt-v4's ShadowEpsilon
+                    if (std::isinf(ls->dist)) {
+                        shadow.d = ls->wi;  // toward the environment: unbounded
+                    } else {
+                        const vec3 target = offset_ray_origin(ls->p, glm::dot(ls->wi, ls->n) < 0.f ? ls->n : -ls->n);
+                        shadow.d = target - shadow.o;
+                        shadow.tmax = 1.f - 1e-4f;  // pbrt-v4's ShadowEpsilon
+                    }
                     counters.shadow_rays++;
                     if (!view.accel->occluded(shadow)) {
-                        const float w = mis ? power_heuristic(ls->pdf, pdf(mat.bsdf, wo, wi)) : 1.f;
+                        const float w = mis ? power_heuristic(ls->pdf, pdf(*bsdf, wo, wi)) : 1.f;
                         L += beta * f * std::fabs(wi.z) * ls->le * (w / ls->pdf);
                     }
                 }
@@ -135,7 +169,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         }
 
         // BSDF sampling for the next direction.
-        const auto bs = sample(mat.bsdf, wo, u_lobe, u_bsdf);
+        const auto bs = sample(*bsdf, wo, u_lobe, u_bsdf);
         if (!bs) break;
         const vec3 wi_world = frame.to_world(bs->wi);
         const float cos_g = glm::dot(wi_world, ng);

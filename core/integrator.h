@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/accel.h"
+#include "core/environment.h"
 #include "core/lights.h"
 #include "core/sampler.h"
 
@@ -21,13 +22,14 @@ struct RenderSettings {
     bool russian_roulette = true;
     int max_depth = 1024;
     uint32_t seed = 0;
+    SamplerKind sampler = SamplerKind::Independent;  // see core/sampler.h
 
     bool operator==(const RenderSettings& o) const {
         return light_sampling == o.light_sampling && mis == o.mis && russian_roulette == o.russian_roulette &&
-               max_depth == o.max_depth && seed == o.seed;
+               max_depth == o.max_depth && seed == o.seed && sampler == o.sampler;
     }
     bool operator!=(const RenderSettings& o) const { return !(*this == o); }
-    // One line for logs and EXR metadata, e.g. "nee=on mis=on rr=on max_depth=1024 seed=0".
+    // One line for logs and EXR metadata, e.g. "nee=on mis=on rr=on max_depth=1024 seed=0 sampler=independent".
     std::string describe() const;
 };
 
@@ -45,7 +47,14 @@ struct SceneView {
     const std::vector<Material>* materials = nullptr;
     const Accel* accel = nullptr;
     const LightSet* lights = nullptr;
+    const Environment* environment = nullptr;  // required; may be black
 };
+
+// Probability that next-event estimation samples the environment rather than the emissive triangles.
+inline float environment_selection_probability(const SceneView& v) {
+    if (v.environment->is_black()) return 0.f;
+    return v.lights->empty() ? 1.f : 0.5f;
+}
 
 // Radiance arriving along `ray`. Consumes a fixed number of sampler dimensions per bounce.
 vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, Sampler& sampler,

@@ -18,6 +18,7 @@ using glm::vec2;
 using glm::vec3;
 using glm::vec4;
 
+constexpr uint32_t kNoIndex = 0xffffffffu;  // "no element" for 32-bit indices
 constexpr float kPi = 3.14159265358979323846f;
 constexpr float kInvPi = 0.31830988618379067154f;
 constexpr float kInv2Pi = 0.15915494309189533577f;

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace pv {
@@ -112,11 +113,26 @@ PreScan prescan(const std::string& text, const std::string& file) {
 
 vec3 to_vec3(const float* c) { return vec3(c[0], c[1], c[2]); }
 
+// Forwards tinyobjloader's warnings, folding the ones that repeat per material ("Both `d` and `Tr`...", a known
+// MTL quirk: d wins) into one line, and keeping at most 5 others.
 void add_warnings(std::vector<std::string>& out, const std::string& file, const std::string& text) {
     std::istringstream in(text);
     std::string line;
-    while (std::getline(in, line))
-        if (!line.empty()) out.push_back(file + ": " + line);
+    size_t d_and_tr = 0, kept = 0, skipped = 0;
+    while (std::getline(in, line)) {
+        if (line.empty()) continue;
+        if (line.rfind("Both `d` and `Tr`", 0) == 0) {
+            ++d_and_tr;
+        } else if (kept < 5) {
+            out.push_back(file + ": " + line);
+            ++kept;
+        } else {
+            ++skipped;
+        }
+    }
+    if (d_and_tr)
+        out.push_back(file + ": " + std::to_string(d_and_tr) + " material(s) define both d and Tr; d is used");
+    if (skipped) out.push_back(file + ": " + std::to_string(skipped) + " more loader warning(s) not shown");
 }
 
 Scene build_scene(const std::string& text_in, const std::string& file, const std::string& mtl_dir,
@@ -149,12 +165,39 @@ Scene build_scene(const std::string& text_in, const std::string& file, const std
     add_warnings(scene.warnings, file, warn);
     if (!err.empty()) add_warnings(scene.warnings, file, err);
 
-    // Materials.
+    // Materials, and the textures they name (each file loaded once).
+    std::map<std::string, uint32_t> texture_cache;
+    auto texture = [&](const std::string& name, const std::string& material, bool alpha) -> uint32_t {
+        if (name.empty()) return kNoIndex;
+        const std::string found = mtl_dir.empty() ? std::string() : resolve_texture_path(mtl_dir, name);
+        if (found.empty()) {
+            scene.warnings.push_back(file + ": material '" + material + "': texture '" + name +
+                                     "' not found (also tried ignoring letter case); flat colour used");
+            return kNoIndex;
+        }
+        const std::string key = found + (alpha ? "#alpha" : "");
+        if (auto it = texture_cache.find(key); it != texture_cache.end()) return it->second;
+        try {
+            scene.textures.push_back(Texture::load(found, alpha));
+        } catch (const Error& e) {
+            scene.warnings.push_back(std::string(e.what()) + "; flat colour used for material '" + material + "'");
+            return kNoIndex;
+        }
+        const uint32_t id = static_cast<uint32_t>(scene.textures.size() - 1);
+        texture_cache[key] = id;
+        return id;
+    };
     for (const auto& m : mtls) {
-        scene.materials.push_back(material_from_mtl(m.name, to_vec3(m.diffuse), to_vec3(m.specular),
-                                                    to_vec3(m.emission), m.shininess, m.ior, m.dissolve, m.illum,
-                                                    scene.warnings));
-        scene.materials.back().two_sided_emission = options.two_sided_emission;
+        Material mat = material_from_mtl(m.name, to_vec3(m.diffuse), to_vec3(m.specular), to_vec3(m.emission),
+                                         m.shininess, m.ior, m.dissolve, m.illum, scene.warnings);
+        mat.two_sided_emission = options.two_sided_emission;
+        mat.base_color_texture = texture(m.diffuse_texname, m.name, false);
+        if (!m.alpha_texname.empty()) {
+            mat.alpha_texture = texture(m.alpha_texname, m.name, true);
+        } else if (mat.base_color_texture != kNoIndex && scene.textures[mat.base_color_texture].has_alpha()) {
+            mat.alpha_texture = mat.base_color_texture;  // map_Kd with an alpha channel cuts out too
+        }
+        scene.materials.push_back(std::move(mat));
     }
     uint32_t default_material = kNoIndex;
 
@@ -284,7 +327,10 @@ Material material_from_mtl(const std::string& name, vec3 kd, vec3 ks, vec3 ke, f
     m.emission = glm::max(ke, vec3(0.f));
     kd = glm::clamp(kd, vec3(0.f), vec3(1.f));
     ks = glm::clamp(ks, vec3(0.f), vec3(1.f));
-    if (illum == 4 || illum == 6 || illum == 7 || (d < 1.f && d >= 0.f)) {
+    const bool dissolved = d < 1.f && d >= 0.f;
+    if (dissolved && !(ni > 1.f) && !(illum == 4 || illum == 6 || illum == 7))
+        warnings.push_back("material '" + name + "': d < 1 without Ni > 1 is not glass; rendered opaque");
+    if (illum == 4 || illum == 6 || illum == 7 || (dissolved && ni > 1.f)) {
         const float eta = ni > 1.f ? ni : 1.5f;
         if (!(ni > 1.f)) warnings.push_back("material '" + name + "': glass without Ni > 1; IOR 1.5 used");
         m.bsdf = Dielectric{eta};

@@ -6,11 +6,18 @@
 // zero/NaN normals fall back to the geometric normal.
 //
 // MTL -> material ("model only what a scene needs"; see docs in README):
-//   illum 4, 6, 7, or d < 1   -> Dielectric (eta = Ni, 1.5 when Ni <= 1)
+//   illum 4, 6, 7, or d < 1 with Ni > 1 -> Dielectric (eta = Ni; 1.5 when Ni <= 1)
+//   (d < 1 without Ni is rendered opaque, with a warning; Tr is ignored when d is present, as tinyobjloader does)
 //   illum 3, 5                -> Mirror (reflectance Ks, or 1 when Ks = 0)
 //   Ks > 0 (illum != 0, 1)    -> Glossy: Kd diffuse + GGX lobe with F = Ks, alpha = sqrt(2 / (Ns + 2))
 //   otherwise                 -> Lambertian (Kd)
 //   Ke > 0                    -> emission on the front face (winding order), plus the reflective part above.
+//   Ka is ignored: some exporters put emission there (Embree's cornell_box.obj), but MTL's Ka is ambient
+//   reflectance, not emission. Tf (transmission filter) and bump maps are ignored.
+//   map_Kd -> base colour texture; it REPLACES Kd (exporters such as 3ds Max and Blender write Kd as a preview
+//   colour next to the map). map_d, or map_Kd's alpha channel -> stochastic alpha cut-out (shadow rays too).
+//   Texture names are matched case-insensitively when the exact name is missing; a missing texture gives one
+//   warning and the flat colour.
 // When Kd + Ks exceeds 1 in a channel both are scaled down to sum to 1 (energy conservation), with a warning.
 #pragma once
 

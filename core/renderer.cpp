@@ -32,6 +32,7 @@ Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads)
     m_pool = std::make_unique<Pool>(m_threads);
     m_pool->arena.execute([&] { m_accel = std::make_unique<Accel>(*m_scene); });
     m_lights = LightSet(*m_scene, m_materials);
+    m_environment = Environment(*m_scene);
     m_camera = Camera(m_scene->camera, 64, 64);
 }
 
@@ -55,7 +56,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const int w = m_film.width(), h = m_film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
     const uint32_t index = m_stats.spp;
-    const SceneView view{m_scene.get(), &m_materials, m_accel.get(), &m_lights};
+    const SceneView view{m_scene.get(), &m_materials, m_accel.get(), &m_lights, &m_environment};
     std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
     std::atomic<bool> cancelled{false};
 
@@ -68,7 +69,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                     return;
                 }
                 TileTotals& tt = totals[size_t(tile)];
-                Sampler sampler(m_settings.seed);
+                Sampler sampler(m_settings.seed, m_settings.sampler);
                 const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
                 const int x1 = std::min(x0 + kTile, w), y1 = std::min(y0 + kTile, h);
                 for (int y = y0; y < y1; ++y)

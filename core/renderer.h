@@ -50,6 +50,7 @@ public:
     const std::vector<Material>& materials() const { return m_materials; }
     const Accel& accel() const { return *m_accel; }
     const LightSet& lights() const { return m_lights; }
+    const Environment& environment() const { return m_environment; }
     int threads() const { return m_threads; }
 
     // Traces one primary ray and returns the hit triangle, or kNoIndex (for picking in the viewer).
@@ -60,6 +61,7 @@ private:
     std::unique_ptr<Accel> m_accel;
     std::vector<Material> m_materials;
     LightSet m_lights;
+    Environment m_environment;
     RenderSettings m_settings;
     Camera m_camera;
     Film m_film;

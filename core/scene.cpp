@@ -15,6 +15,14 @@ void Scene::add_triangle(vec3 a, vec3 b, vec3 c, uint32_t material) {
     if (!uv_indices.empty()) uv_indices.push_back(uvec3(kNoIndex));
 }
 
+bool Scene::has_emitters() const {
+    std::vector<uint8_t> used(materials.size(), 0);
+    for (uint32_t m : material_ids) used[m] = 1;
+    for (size_t i = 0; i < materials.size(); ++i)
+        if (used[i] && materials[i].has_emission()) return true;
+    return false;
+}
+
 void Scene::bounds(vec3& lo, vec3& hi) const {
     lo = vec3(std::numeric_limits<float>::max());
     hi = -lo;

@@ -6,6 +6,7 @@
 
 #include "core/bsdf.h"
 #include "core/math.h"
+#include "core/texture.h"
 
 #include <string>
 #include <vector>
@@ -32,8 +33,6 @@ struct LoadStats {
     size_t bad_normals = 0;          // corners whose normal was zero/NaN/missing: geometric normal used
 };
 
-constexpr uint32_t kNoIndex = 0xffffffffu;
-
 struct Scene {
     std::vector<vec3> positions;
     std::vector<uvec3> triangles;       // indices into positions
@@ -44,8 +43,14 @@ struct Scene {
     std::vector<uint32_t> material_ids; // per triangle, into materials
     std::vector<Material> materials;
 
+    std::vector<Texture> textures;      // referenced by Material::base_color_texture / alpha_texture
+
     CameraDesc camera;
-    vec3 background{0.f};   // constant radiance of rays that leave the scene
+    vec3 background{0.f};   // constant radiance of rays that leave the scene (when there is no environment map)
+    // Equirectangular environment map (y up; u = 0.5 looks down -z... see environment.h): index into textures.
+    uint32_t environment_map = kNoIndex;
+    float environment_rotation_deg = 0.f;  // about +y
+    float environment_strength = 1.f;      // multiplies the map or the background
     bool has_camera = false;
 
     std::string source;     // the file it came from, for messages
@@ -53,6 +58,15 @@ struct Scene {
     std::vector<std::string> warnings;
 
     size_t triangle_count() const { return triangles.size(); }
+    // Interpolated texture coordinates on triangle `prim` at barycentrics (u, v) of vertices 1 and 2; 0 if none.
+    vec2 uv_at(uint32_t prim, float u, float v) const {
+        if (uv_indices.empty()) return vec2(0.f);
+        const uvec3 ti = uv_indices[prim];
+        if (ti.x == kNoIndex) return vec2(0.f);
+        return (1.f - u - v) * uvs[ti.x] + u * uvs[ti.y] + v * uvs[ti.z];
+    }
+    // True if any triangle's material emits.
+    bool has_emitters() const;
     // Appends a triangle with material `material` (tests and generated scenes).
     void add_triangle(vec3 a, vec3 b, vec3 c, uint32_t material);
     // Axis-aligned bounds of all vertices.

@@ -1,7 +1,9 @@
 // core/scene_file.cpp: JSON scene files (nlohmann-json) on top of the OBJ loader.
 #include "core/scene_file.h"
 
+#include "core/environment.h"
 #include "core/error.h"
+#include "core/image_io.h"
 #include "core/obj_loader.h"
 
 #include <nlohmann/json.hpp>
@@ -13,6 +15,8 @@ namespace pv {
 namespace {
 
 using nlohmann::json;
+
+void use_default_sky_if_unlit(Scene& scene, bool lighting_given);
 
 vec3 read_vec3(const json& j, const std::string& file, const char* key) {
     if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
@@ -85,6 +89,13 @@ Scene load_json(const std::string& path) {
                 scene.camera.focus_distance = read_float(c["focus_distance"], path, "focus_distance");
             scene.has_camera = true;
         }
+        if (j.contains("environment")) {
+            const json& e = j["environment"];
+            if (e.contains("map")) set_environment(scene, (dir / e["map"].get<std::string>()).string());
+            if (e.contains("color")) scene.background = glm::max(read_vec3(e["color"], path, "color"), vec3(0.f));
+            if (e.contains("rotation")) scene.environment_rotation_deg = read_float(e["rotation"], path, "rotation");
+            if (e.contains("strength")) scene.environment_strength = read_float(e["strength"], path, "strength");
+        }
         if (j.contains("materials")) {
             for (const auto& [name, o] : j["materials"].items()) {
                 bool found = false;
@@ -99,10 +110,68 @@ Scene load_json(const std::string& path) {
     } catch (const json::exception& e) {
         throw Error(path + ": " + e.what());
     }
+    use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment"));
     return scene;
 }
 
+
+void use_default_sky_if_unlit(Scene& scene, bool lighting_given) {
+    if (lighting_given || scene.has_emitters() || scene.triangles.empty()) return;
+    set_environment(scene, "sky");
+    scene.warnings.push_back(scene.source +
+                             ": the scene has no emitter; lit by the default sky (--environment overrides)");
+}
+
 }  // namespace
+
+void set_environment(Scene& scene, const std::string& spec) {
+    // A colour: "r,g,b" or a single number.
+    std::vector<float> values;
+    {
+        size_t pos = 0;
+        bool numeric = !spec.empty();
+        while (numeric && pos <= spec.size()) {
+            const size_t comma = std::min(spec.find(',', pos), spec.size());
+            const std::string part = spec.substr(pos, comma - pos);
+            char* end = nullptr;
+            const float v = std::strtof(part.c_str(), &end);
+            if (part.empty() || end != part.c_str() + part.size()) numeric = false;
+            else values.push_back(v);
+            pos = comma + 1;
+        }
+        if (!numeric) values.clear();
+    }
+    if (values.size() == 1 || values.size() == 3) {
+        const vec3 c = values.size() == 1 ? vec3(values[0]) : vec3(values[0], values[1], values[2]);
+        if (!is_finite(c) || c.x < 0.f || c.y < 0.f || c.z < 0.f)
+            throw Error("--environment " + spec + ": a colour must be finite and non-negative");
+        scene.background = c;
+        scene.environment_map = kNoIndex;
+        return;
+    }
+    Texture map;
+    if (spec == "sky") {
+        map = make_default_sky();
+    } else {
+        const std::string ext = std::filesystem::path(spec).extension().string();
+        if (ext == ".exr" || ext == ".EXR") {
+            const Image img = read_exr(spec);
+            std::vector<vec4> texels(size_t(img.width) * size_t(img.height));
+            for (size_t i = 0; i < texels.size(); ++i) {
+                const vec3 c(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
+                texels[i] = vec4(is_finite(c) ? glm::max(c, vec3(0.f)) : vec3(0.f), 1.f);
+            }
+            map = Texture(img.width, img.height, std::move(texels));
+        } else {
+            std::error_code ec;
+            if (!std::filesystem::is_regular_file(spec, ec))
+                throw Error(spec + ": no such file; expected an environment map (.exr, .hdr, .png) or r,g,b");
+            map = Texture::load(spec);
+        }
+    }
+    scene.textures.push_back(std::move(map));
+    scene.environment_map = static_cast<uint32_t>(scene.textures.size() - 1);
+}
 
 Scene load_scene(const std::string& path) {
     const std::string ext = std::filesystem::path(path).extension().string();
@@ -110,6 +179,7 @@ Scene load_scene(const std::string& path) {
     if (ext == ".obj" || ext == ".OBJ") {
         Scene scene = load_obj(path);
         scene.camera = scene.framing_camera();
+        use_default_sky_if_unlit(scene, false);
         return scene;
     }
     std::error_code ec;

@@ -1,0 +1,98 @@
+// core/environment.cpp: constant and equirectangular environments.
+#include "core/environment.h"
+
+#include "core/warp.h"
+
+namespace pv {
+
+Environment::Environment(const Scene& scene) : m_strength(scene.environment_strength) {
+    m_rotation = glm::radians(scene.environment_rotation_deg);
+    if (scene.environment_map != kNoIndex && scene.environment_map < scene.textures.size()) {
+        m_map = &scene.textures[scene.environment_map];
+        const int w = m_map->width(), h = m_map->height();
+        std::vector<float> f(size_t(w) * size_t(h));
+        for (int y = 0; y < h; ++y) {
+            // Texel rows are equal steps in theta; sin(theta) accounts for their shrinking solid angle.
+            const float sin_theta = std::sin(kPi * (float(y) + 0.5f) / float(h));
+            for (int x = 0; x < w; ++x) {
+                const vec2 uv((float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h));
+                f[size_t(y) * w + x] = luminance(vec3(m_map->lookup(vec2(uv.x, 1.f - uv.y)))) * sin_theta;
+            }
+        }
+        m_dist = Distribution2D(f, w, h);
+        m_black = !(m_strength > 0.f);
+    } else {
+        m_constant = scene.background * m_strength;
+        m_black = pv::is_black(m_constant);
+    }
+}
+
+vec2 Environment::direction_to_uv(vec3 d) const {
+    const float theta = std::acos(glm::clamp(d.y, -1.f, 1.f));
+    float phi = std::atan2(-d.z, d.x) - m_rotation;
+    phi -= 2.f * kPi * std::floor(phi * kInv2Pi);
+    return vec2(glm::min(phi * kInv2Pi, kOneMinusEpsilon), glm::min(theta * kInvPi, kOneMinusEpsilon));
+}
+
+vec3 Environment::uv_to_direction(vec2 uv) const {
+    const float phi = uv.x * 2.f * kPi + m_rotation, theta = uv.y * kPi;
+    const float s = std::sin(theta);
+    return vec3(s * std::cos(phi), std::cos(theta), -s * std::sin(phi));
+}
+
+vec3 Environment::eval(vec3 dir) const {
+    if (!m_map) return m_constant;
+    const vec2 uv = direction_to_uv(dir);
+    // Nearest texel: uv -> texel centre, so the radiance is constant over each sampled cell.
+    const float x = (std::floor(uv.x * float(m_map->width())) + 0.5f) / float(m_map->width());
+    const float y = (std::floor(uv.y * float(m_map->height())) + 0.5f) / float(m_map->height());
+    return vec3(m_map->lookup(vec2(x, 1.f - y))) * m_strength;
+}
+
+std::optional<EnvironmentSample> Environment::sample(vec2 u) const {
+    if (m_black) return std::nullopt;
+    EnvironmentSample s;
+    if (!m_map) {
+        s.wi = square_to_uniform_sphere(u);
+        s.pdf = uniform_sphere_pdf();
+        s.le = m_constant;
+        return s;
+    }
+    float pdf_uv = 0.f;
+    const vec2 uv = m_dist.sample(u, &pdf_uv);
+    const float sin_theta = std::sin(uv.y * kPi);
+    if (!(pdf_uv > 0.f) || !(sin_theta > 0.f)) return std::nullopt;
+    s.wi = uv_to_direction(uv);
+    // Jacobian of (u, v) -> direction: d omega = 2 pi^2 sin(theta) du dv.
+    s.pdf = pdf_uv / (2.f * kPi * kPi * sin_theta);
+    s.le = eval(s.wi);
+    return s;
+}
+
+float Environment::pdf(vec3 dir) const {
+    if (m_black) return 0.f;
+    if (!m_map) return uniform_sphere_pdf();
+    const vec2 uv = direction_to_uv(dir);
+    const float sin_theta = std::sin(uv.y * kPi);
+    if (!(sin_theta > 0.f)) return 0.f;
+    return m_dist.pdf(uv) / (2.f * kPi * kPi * sin_theta);
+}
+
+Texture make_default_sky() {
+    const int w = 64, h = 512;  // constant in phi; fine in theta so the gradient shows no bands
+    std::vector<vec4> texels(size_t(w) * size_t(h));
+    const vec3 zenith(0.35f, 0.55f, 1.0f), horizon(1.0f, 1.0f, 1.0f), ground(0.25f, 0.23f, 0.21f);
+    for (int y = 0; y < h; ++y) {
+        const float cos_theta = std::cos(kPi * (float(y) + 0.5f) / float(h));  // +1 at the zenith
+        vec3 c;
+        if (cos_theta >= 0.f) {
+            c = glm::mix(horizon, zenith, std::pow(cos_theta, 0.5f));
+        } else {
+            c = glm::mix(horizon * 0.5f, ground, glm::min(1.f, -cos_theta * 4.f));
+        }
+        for (int x = 0; x < w; ++x) texels[size_t(y) * w + x] = vec4(c, 1.f);
+    }
+    return Texture(w, h, std::move(texels));
+}
+
+}  // namespace pv

@@ -1,0 +1,48 @@
+// core/environment.h: light from infinitely far away: a constant radiance, or an equirectangular map
+// (latitude-longitude, +y up) importance-sampled by a piecewise-constant distribution over its texels weighted by
+// luminance * sin(theta). The map is looked up per texel (no filtering) so the sampling pdf is exactly
+// proportional to the radiance it returns. Directions: theta = acos(y); phi = atan2(-z, x) + rotation, so the
+// map's centre column (u = 0.5) faces -x. pdfs are per solid angle.
+#pragma once
+
+#include "core/distribution.h"
+#include "core/scene.h"
+
+#include <optional>
+
+namespace pv {
+
+struct EnvironmentSample {
+    vec3 wi{0.f};   // world direction toward the environment
+    vec3 le{0.f};   // radiance arriving from it
+    float pdf = 0.f;
+};
+
+class Environment {
+public:
+    Environment() = default;
+    // From the scene: its environment map if any, else its constant background; both times its strength.
+    explicit Environment(const Scene& scene);
+
+    bool is_black() const { return m_black; }
+    vec3 eval(vec3 dir) const;
+    std::optional<EnvironmentSample> sample(vec2 u) const;
+    float pdf(vec3 dir) const;
+
+    // The equirectangular parameterisation (exposed for tests): uv in [0,1)^2, v = 0 at the zenith.
+    vec2 direction_to_uv(vec3 dir) const;
+    vec3 uv_to_direction(vec2 uv) const;
+
+private:
+    bool m_black = true;
+    vec3 m_constant{0.f};
+    const Texture* m_map = nullptr;
+    float m_strength = 1.f;
+    float m_rotation = 0.f;  // radians
+    Distribution2D m_dist;
+};
+
+// A plain sky as an equirectangular map: bluish zenith, white horizon, a darker ground. Radiance about 1.
+Texture make_default_sky();
+
+}  // namespace pv

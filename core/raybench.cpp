@@ -1,0 +1,2 @@
+// core/raybench.cpp (in progress)
+#include "core/raybench.h"

@@ -1,0 +1,56 @@
+// core/sobol.h: a shuffled, Owen-scrambled, padded Sobol sequence (Burley 2020, "Practical Hash-based Owen
+// Scrambling", JCGT 9(4); pbrt-v4's PaddedSobolSampler with FastOwenScrambler). Each 1D or 2D draw of a sample
+// has its own seed: the sample index is shuffled by a nested uniform scramble (which permutes every aligned block
+// of 2^m indices, so the first 2^m samples of a pixel form a (0,m,2)-net in each 2D pair), then the point is
+// Owen-scrambled. Values are 0.32 fixed point; floats keep the top 24 bits, so they are in [0, 1), never 1.0.
+#pragma once
+
+#include "core/math.h"
+
+#include <cstdint>
+
+namespace pv {
+
+inline uint32_t reverse_bits32(uint32_t v) {
+    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+    v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
+    v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
+    return (v >> 16) | (v << 16);
+}
+
+// Nested uniform (Owen) scramble of a 0.32 fixed-point value: bit k (from the top) is flipped by a hash of the
+// bits above it. Hash after Burley 2020 sec. 3 (a Laine-Karras-style permutation) as in pbrt-v4's FastOwenScrambler:
+// every step maps bit k to bit k XOR f(lower bits) in the reversed word, so the map is a bijection.
+inline uint32_t owen_scramble(uint32_t v, uint32_t seed) {
+    v = reverse_bits32(v);
+    v ^= v * 0x3d20adeau;
+    v += seed;
+    v *= (seed >> 16) | 1u;
+    v ^= v * 0x05526c56u;
+    v ^= v * 0x53a22864u;
+    return reverse_bits32(v);
+}
+
+// Sobol dimension 0 (van der Corput) and dimension 1 of sample `index`, as 0.32 fixed point.
+inline uint32_t sobol_dim0(uint32_t index) { return reverse_bits32(index); }
+uint32_t sobol_dim1(uint32_t index);
+
+// 0.32 fixed point -> float in [0, 1): the top 24 bits are exact in a float.
+inline float fixed_to_float(uint32_t v) { return static_cast<float>(v >> 8) * 0x1p-24f; }
+
+// One draw of the padded sequence. `seed` is a 64-bit hash of (pixel, seed, dimension): its parts seed the index
+// shuffle and each coordinate's scramble.
+inline float sobol_owen_1d(uint32_t index, uint64_t seed) {
+    const uint32_t i = owen_scramble(index, static_cast<uint32_t>(seed));
+    return fixed_to_float(owen_scramble(sobol_dim0(i), static_cast<uint32_t>(seed >> 32)));
+}
+inline vec2 sobol_owen_2d(uint32_t index, uint64_t seed) {
+    const uint32_t i = owen_scramble(index, static_cast<uint32_t>(seed));
+    const uint32_t sx = static_cast<uint32_t>(seed >> 32);
+    // A second, different 32-bit seed for y from the same hash (odd multiplier: a bijection of sx).
+    const uint32_t sy = (sx ^ 0x9e3779b9u) * 0x85ebca6bu + 0x7f4a7c15u;
+    return vec2(fixed_to_float(owen_scramble(sobol_dim0(i), sx)), fixed_to_float(owen_scramble(sobol_dim1(i), sy)));
+}
+
+}  // namespace pv

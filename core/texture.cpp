@@ -1,0 +1,108 @@
+// core/texture.cpp: stb_image loading, sRGB decoding and bilinear lookup.
+#include "core/texture.h"
+
+#include "core/error.h"
+
+#include <stb_image.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+namespace pv {
+namespace {
+
+// sRGB EOTF (IEC 61966-2-1).
+float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+}  // namespace
+
+Texture::Texture(int width, int height, std::vector<vec4> texels)
+    : m_width(width), m_height(height), m_texels(std::move(texels)) {
+    for (const vec4& t : m_texels)
+        if (t.w < 1.f) {
+            m_has_alpha = true;
+            break;
+        }
+}
+
+Texture Texture::load(const std::string& path, bool alpha_only) {
+    int w = 0, h = 0, n = 0;
+    std::vector<vec4> texels;
+    if (stbi_is_hdr(path.c_str())) {
+        float* data = stbi_loadf(path.c_str(), &w, &h, &n, 4);
+        if (!data) throw Error(path + ": cannot read image: " + (stbi_failure_reason() ? stbi_failure_reason() : "?"));
+        texels.resize(size_t(w) * size_t(h));
+        for (size_t i = 0; i < texels.size(); ++i)
+            texels[i] = vec4(data[4 * i], data[4 * i + 1], data[4 * i + 2], data[4 * i + 3]);
+        stbi_image_free(data);
+    } else {
+        unsigned char* data = stbi_load(path.c_str(), &w, &h, &n, 4);
+        if (!data) throw Error(path + ": cannot read image: " + (stbi_failure_reason() ? stbi_failure_reason() : "?"));
+        float table[256];
+        for (int i = 0; i < 256; ++i) table[i] = srgb_to_linear(float(i) / 255.f);
+        texels.resize(size_t(w) * size_t(h));
+        for (size_t i = 0; i < texels.size(); ++i)
+            texels[i] = vec4(table[data[4 * i]], table[data[4 * i + 1]], table[data[4 * i + 2]], float(data[4 * i + 3]) / 255.f);
+        if (alpha_only && (n == 1 || n == 3))
+            for (size_t i = 0; i < texels.size(); ++i) texels[i].w = float(data[4 * i]) / 255.f;
+        stbi_image_free(data);
+    }
+    for (vec4& t : texels)
+        if (!std::isfinite(t.x + t.y + t.z + t.w)) t = vec4(0.f, 0.f, 0.f, 1.f);
+    return Texture(w, h, std::move(texels));
+}
+
+vec4 Texture::lookup(vec2 uv) const {
+    if (m_texels.empty()) return vec4(1.f);
+    // Texel centres at (i + 0.5) / width; v flipped because image row 0 is the top.
+    const float x = uv.x * float(m_width) - 0.5f;
+    const float y = (1.f - uv.y) * float(m_height) - 0.5f;
+    if (!std::isfinite(x) || !std::isfinite(y)) return m_texels[0];
+    const float fx = std::floor(x), fy = std::floor(y);
+    const float tx = x - fx, ty = y - fy;
+    auto wrap = [](long long i, int n) { return static_cast<size_t>(((i % n) + n) % n); };
+    const long long ix = static_cast<long long>(fx), iy = static_cast<long long>(fy);
+    const size_t x0 = wrap(ix, m_width), x1 = wrap(ix + 1, m_width);
+    const size_t y0 = wrap(iy, m_height), y1 = wrap(iy + 1, m_height);
+    const size_t w = size_t(m_width);
+    return (1.f - ty) * ((1.f - tx) * m_texels[y0 * w + x0] + tx * m_texels[y0 * w + x1]) +
+           ty * ((1.f - tx) * m_texels[y1 * w + x0] + tx * m_texels[y1 * w + x1]);
+}
+
+std::string resolve_texture_path(const std::string& dir, const std::string& name) {
+    namespace fs = std::filesystem;
+    std::string clean = name;
+    std::replace(clean.begin(), clean.end(), '\\', '/');
+    std::error_code ec;
+    const fs::path direct = fs::path(dir) / clean;
+    if (fs::is_regular_file(direct, ec)) return direct.string();
+    // Walk the components, matching each case-insensitively.
+    fs::path cur = dir.empty() ? fs::path(".") : fs::path(dir);
+    for (const fs::path& part : fs::path(clean)) {
+        if (part.empty() || part == ".") continue;
+        const fs::path exact = cur / part;
+        if (fs::exists(exact, ec)) {
+            cur = exact;
+            continue;
+        }
+        const std::string want = lower(part.string());
+        bool found = false;
+        for (fs::directory_iterator it(cur, ec), end; !ec && it != end; it.increment(ec)) {
+            if (lower(it->path().filename().string()) == want) {
+                cur = it->path();
+                found = true;
+                break;
+            }
+        }
+        if (!found) return {};
+    }
+    return fs::is_regular_file(cur, ec) ? cur.string() : std::string();
+}
+
+}  // namespace pv

@@ -1,0 +1,40 @@
+// core/texture.h: 2D image textures for base colour (map_Kd) and alpha (map_d, or map_Kd's alpha channel).
+// Stored linear (8-bit colour images are sRGB-decoded on load; HDR images are already linear); bilinear
+// lookup with repeat wrapping. uv follows OBJ: v = 0 is the bottom row of the image.
+#pragma once
+
+#include "core/math.h"
+
+#include <string>
+#include <vector>
+
+namespace pv {
+
+class Texture {
+public:
+    Texture() = default;
+    // Builds from linear RGBA texels, row 0 at the top.
+    Texture(int width, int height, std::vector<vec4> texels);
+
+    // Loads PNG/JPG/TGA/BMP (sRGB colour, linear alpha) or HDR (linear) through stb_image.
+    // alpha_only: the texture is a mask (map_d): alpha = its alpha channel if it has one, else its raw grey level.
+    // Throws pv::Error naming the file when it cannot be read.
+    static Texture load(const std::string& path, bool alpha_only = false);
+
+    vec4 lookup(vec2 uv) const;   // bilinear, repeat wrap
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    bool has_alpha() const { return m_has_alpha; }
+    size_t bytes() const { return m_texels.size() * sizeof(vec4); }
+
+private:
+    int m_width = 0, m_height = 0;
+    bool m_has_alpha = false;
+    std::vector<vec4> m_texels;
+};
+
+// Finds `name` relative to `dir`: exactly, else a case-insensitive match of each path component (archive scenes
+// name "SP_LUK.JPG" for "sp_luk.JPG"). Returns the path found, or an empty string.
+std::string resolve_texture_path(const std::string& dir, const std::string& name);
+
+}  // namespace pv
