@@ -93,6 +93,7 @@ void add_uv_sphere(Scene& scene, vec3 centre, float radius, int nu, int nv, uint
 Tracer::Tracer(std::shared_ptr<const Scene> scene) : m_scene(std::move(scene)) {
     m_accel = std::make_unique<Accel>(*m_scene);
     m_lights = LightSet(*m_scene, m_scene->materials);
+    m_environment = Environment(*m_scene);
 }
 
 void Tracer::for_each_sample(const CameraDesc& camera_desc, const RenderSettings& settings, int width, int height,

@@ -5,6 +5,7 @@
 
 #include "core/accel.h"
 #include "core/camera.h"
+#include "core/environment.h"
 #include "core/film.h"
 #include "core/integrator.h"
 #include "core/lights.h"
@@ -33,7 +34,10 @@ public:
     const Scene& scene() const { return *m_scene; }
     const Accel& accel() const { return *m_accel; }
     const LightSet& lights() const { return m_lights; }
-    SceneView view() const { return SceneView{m_scene.get(), &m_scene->materials, m_accel.get(), &m_lights}; }
+    const Environment& environment() const { return m_environment; }
+    SceneView view() const {
+        return SceneView{m_scene.get(), &m_scene->materials, m_accel.get(), &m_lights, &m_environment};
+    }
 
     // Calls fn(x, y, index, L) for `spp` samples of every pixel, single-threaded, with the Renderer's sample
     // layout (sampler.start(pixel, index); film jitter; lens; trace_path). With pixel_centre the camera ray goes
@@ -48,6 +52,7 @@ private:
     std::shared_ptr<const Scene> m_scene;
     std::unique_ptr<Accel> m_accel;
     LightSet m_lights;
+    Environment m_environment;
 };
 
 // Renders through the Renderer (threads workers, spp passes) and returns its film.
