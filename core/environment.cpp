@@ -28,7 +28,8 @@ Environment::Environment(const Scene& scene) : m_strength(scene.environment_stre
 }
 
 vec2 Environment::direction_to_uv(vec3 d) const {
-    const float theta = std::acos(glm::clamp(d.y, -1.f, 1.f));
+    // atan2 rather than acos(y): acos loses precision near the poles, where the pdf's 1/sin(theta) is large.
+    const float theta = std::atan2(std::sqrt(d.x * d.x + d.z * d.z), d.y);
     float phi = std::atan2(-d.z, d.x) - m_rotation;
     phi -= 2.f * kPi * std::floor(phi * kInv2Pi);
     return vec2(glm::min(phi * kInv2Pi, kOneMinusEpsilon), glm::min(theta * kInvPi, kOneMinusEpsilon));
