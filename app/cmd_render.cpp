@@ -41,13 +41,23 @@ void run(RenderOptions& o) {
     if (ext != ".exr" && ext != ".png" && ext != ".EXR" && ext != ".PNG")
         throw Error(o.out + ": unknown image format '" + ext + "'; expected .exr or .png");
 
+    if (!o.quiet) std::fprintf(stderr, "pathview: loading %s\n", path.c_str());
+    const auto load_start = std::chrono::steady_clock::now();
     auto scene = std::make_shared<Scene>(load_scene(path));
     apply_scene_overrides(o.common, *scene);
+    const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
     for (const std::string& w : scene->warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
     CameraDesc camera = scene->camera;
     apply_camera_overrides(o.common, camera);
 
+    if (!o.quiet) std::fprintf(stderr, "pathview: building the BVH of %zu triangles\n", scene->triangle_count());
     Renderer renderer(scene, o.common.threads);
+    if (!o.quiet) {
+        const AccelStats& as = renderer.accel().stats();
+        std::fprintf(stderr, "pathview: loaded %zu triangles in %.2f s; BVH %.2f s, %.1f MiB (%.0f bytes/triangle)\n",
+                     scene->triangle_count(), load_seconds, as.build_seconds, double(as.bytes) / (1 << 20),
+                     double(as.bytes) / double(std::max<size_t>(1, scene->triangle_count())));
+    }
     renderer.restart(camera, o.common.settings, o.common.width, o.common.height);
     const bool tty = !o.quiet && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();

@@ -7,6 +7,7 @@
 #include <tiny_obj_loader.h>
 
 #include <cerrno>
+#include <charconv>
 #include <climits>
 #include <cstdlib>
 #include <filesystem>
@@ -47,17 +48,27 @@ PreScan prescan(const std::string& text, const std::string& file) {
         line = trim_left(line);
         if (line.size() < 2) continue;
         if (line[0] == 'v' && (line[1] == ' ' || line[1] == '\t')) {
-            // Position: three coordinates (an optional w is ignored).
-            std::string buf(line.substr(2));
-            const char* p = buf.c_str();
+            // Position: three coordinates (an optional w is ignored). from_chars parses in place, no allocation.
+            const char* p = line.data() + 2;
+            const char* const line_end = line.data() + line.size();
             bool bad = false;
             for (int k = 0; k < 3; ++k) {
-                char* e = nullptr;
-                errno = 0;
-                const float x = std::strtof(p, &e);
-                if (e == p || !std::isfinite(x) || std::fabs(x) > kMaxCoordinate) bad = true;
-                if (e == p) break;
-                p = e;
+                while (p < line_end && (*p == ' ' || *p == '\t')) ++p;
+                if (p < line_end && *p == '+') ++p;
+                double x = 0.0;
+                const auto r = std::from_chars(p, line_end, x);
+                // Out of double's range: overflow is bad; underflow (1e-400) is a valid 0.
+                bool overflow = false;
+                if (r.ec == std::errc::result_out_of_range) {
+                    const std::string_view token(p, size_t(r.ptr - p));
+                    overflow = token.find("e-") == std::string_view::npos && token.find("E-") == std::string_view::npos;
+                    x = 0.0;
+                }
+                if (r.ec == std::errc::invalid_argument || overflow || !std::isfinite(x) ||
+                    std::fabs(x) > double(kMaxCoordinate))
+                    bad = true;
+                if (r.ptr == p) break;
+                p = r.ptr;
             }
             ps.bad_vertex.push_back(bad ? 1 : 0);
             if (bad && ps.first_bad_line == 0) {
@@ -70,19 +81,20 @@ PreScan prescan(const std::string& text, const std::string& file) {
         } else if (line[0] == 'v' && line[1] == 'n') {
             ++vn_count;
         } else if (line[0] == 'f' && (line[1] == ' ' || line[1] == '\t')) {
-            std::string buf(line.substr(2));
-            const char* p = buf.c_str();
-            while (*p) {
-                while (*p == ' ' || *p == '\t') ++p;
-                if (!*p) break;
-                char* e = nullptr;
-                errno = 0;
-                const long long idx = std::strtoll(p, &e, 10);
-                if (e == p) {
+            const char* p = line.data() + 2;
+            const char* const line_end = line.data() + line.size();
+            while (p < line_end) {
+                while (p < line_end && (*p == ' ' || *p == '\t')) ++p;
+                if (p == line_end) break;
+                long long idx = 0;
+                const auto r = std::from_chars(p + (*p == '+' ? 1 : 0), line_end, idx);
+                const char* e = r.ptr;
+                if (r.ec == std::errc::invalid_argument) {
                     throw Error(file + ":" + std::to_string(line_no) + ": malformed face '" +
                                 std::string(line.substr(0, 60)) + "'; expected vertex indices");
                 }
-                if (errno == ERANGE || idx > INT_MAX || idx < -static_cast<long long>(INT_MAX)) {
+                if (r.ec == std::errc::result_out_of_range || idx > INT_MAX || idx < -static_cast<long long>(INT_MAX)) {
+                    while (e < line_end && *e >= '0' && *e <= '9') ++e;
                     throw Error(file + ":" + std::to_string(line_no) + ": face index " + std::string(static_cast<const char*>(p), static_cast<const char*>(e)) +
                                 " is out of range; expected an index between 1 and " + std::to_string(vcount));
                 }
@@ -100,7 +112,7 @@ PreScan prescan(const std::string& text, const std::string& file) {
                     max_ref_line = line_no;
                 }
                 p = e;
-                while (*p && *p != ' ' && *p != '\t') ++p;  // skip /vt/vn (validated after parsing)
+                while (p < line_end && *p != ' ' && *p != '\t') ++p;  // skip /vt/vn (validated after parsing)
             }
         }
     }
@@ -135,10 +147,13 @@ void add_warnings(std::vector<std::string>& out, const std::string& file, const 
     if (skipped) out.push_back(file + ": " + std::to_string(skipped) + " more loader warning(s) not shown");
 }
 
-Scene build_scene(const std::string& text_in, const std::string& file, const std::string& mtl_dir,
-                  const ObjOptions& options) {
+// Reads a string in place as a std::istream (std::istringstream would copy it).
+struct StringBuf : std::streambuf {
+    explicit StringBuf(std::string& s) { setg(s.data(), s.data(), s.data() + s.size()); }
+};
+
+Scene build_scene(std::string text, const std::string& file, const std::string& mtl_dir, const ObjOptions& options) {
     // A UTF-8 byte-order mark would make tinyobjloader skip the first line.
-    std::string text = text_in;
     Scene scene;
     scene.source = file;
     if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) {
@@ -151,7 +166,8 @@ Scene build_scene(const std::string& text_in, const std::string& file, const std
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> mtls;
     std::string warn, err;
-    std::istringstream in(text);
+    StringBuf buf(text);
+    std::istream in(&buf);
     tinyobj::MaterialFileReader reader(mtl_dir);
     const bool ok = tinyobj::LoadObj(&attrib, &shapes, &mtls, &warn, &err, &in, mtl_dir.empty() ? nullptr : &reader,
                                      /*triangulate=*/true, /*default_vcols_fallback=*/false);
@@ -356,12 +372,13 @@ Scene load_obj(const std::string& path, const ObjOptions& options) {
     if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": no such file; expected an OBJ scene");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path + ": cannot open for reading");
-    std::ostringstream ss;
-    ss << in.rdbuf();
-    if (in.bad()) throw Error(path + ": read error");
+    const auto size = std::filesystem::file_size(path, ec);
+    std::string text(ec ? 0 : size, '\0');
+    if (!in.read(text.data(), static_cast<std::streamsize>(text.size())) && !text.empty())
+        throw Error(path + ": read error");
     std::string dir = std::filesystem::path(path).parent_path().string();
     if (dir.empty()) dir = ".";
-    return build_scene(ss.str(), path, dir + "/", options);
+    return build_scene(std::move(text), path, dir + "/", options);
 }
 
 Scene load_obj_from_string(const std::string& text, const std::string& name, const ObjOptions& options) {
