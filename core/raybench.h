@@ -1,2 +1,48 @@
-// core/raybench.h: Embree's raw ray rate through pv::Accel (in progress).
+// core/raybench.h: Embree's raw ray rate on a scene through pv::Accel, for the ray mix a path tracer traces:
+// camera rays, incoherent bounce rays (cosine-distributed about the surface normal along random walks) and shadow
+// rays to sampled light points (offset and bounded exactly as core/integrator.cpp does). The rays are generated
+// first, then traced in a timed loop on `threads` workers: no shading, sampling or film work is timed.
 #pragma once
+
+#include "core/accel.h"
+#include "core/camera.h"
+#include "core/environment.h"
+#include "core/lights.h"
+
+#include <cstdint>
+
+namespace pv {
+
+// How many rays of each kind a workload traced (e.g. from a render's counters).
+struct RayMix {
+    double camera = 0.0, bounce = 0.0, shadow = 0.0;
+    double total() const { return camera + bounce + shadow; }
+};
+
+// Rays per second of each kind (closest hit for camera and bounce rays, occlusion for shadow rays).
+struct RayRates {
+    double camera = 0.0, bounce = 0.0, shadow = 0.0;
+    // The rate Embree alone would sustain on `mix`: its rays divided by the sum of their times at these rates.
+    double mix_rate(const RayMix& mix) const;
+};
+
+struct RayBenchOptions {
+    int width = 256, height = 256;   // camera rays: one jittered ray per pixel
+    int threads = 0;                 // 0: all cores
+    double seconds_per_kind = 0.5;   // timed tracing per ray kind (whole passes over the ray set)
+    int walk_depth = 4;              // bounce rays per camera ray at most (random walk, stops on a miss)
+    uint32_t seed = 1;
+    // Time by the process's CPU time divided by `threads` instead of the wall clock: rates then do not fall when
+    // other processes share the cores (their work is not ours), while our own spinning and stalls still count.
+    bool cpu_clock = false;
+};
+
+// CPU time of this process (all threads), seconds.
+double process_cpu_seconds();
+
+// Measures the three rates on `accel`. `environment` is used for shadow rays when the scene has no emitters
+// (unbounded rays, as the integrator traces toward the environment).
+RayRates measure_ray_rates(const Scene& scene, const Accel& accel, const LightSet& lights,
+                           const Environment& environment, const Camera& camera, const RayBenchOptions& options);
+
+}  // namespace pv

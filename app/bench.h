@@ -1,0 +1,55 @@
+// app/bench.h: the data of a `pathview bench` run (configurations, measured points) and its writers (table, CSV,
+// SVG). Times are seconds of rendering (whole passes), errors are against the run's reference (core/metrics.h).
+#pragma once
+
+#include "core/integrator.h"
+#include "core/metrics.h"
+
+#include <string>
+#include <vector>
+
+namespace pv::app {
+
+// One estimator configuration: "mis/rr/sobol" = NEE+MIS, Russian roulette on, Sobol sampler.
+struct BenchConfig {
+    std::string name;
+    RenderSettings settings;
+};
+
+// Parses a comma-separated list of "estimator/rr/sampler" names (bsdf|nee|mis, rr|norr, ind|sobol, each may be
+// "*"; "all" = "*/*/*"). Throws pv::Error naming the bad entry.
+std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSettings& base);
+
+// One snapshot of one seed's render.
+struct BenchSample {
+    uint32_t spp = 0;
+    double seconds = 0.0;
+    ErrorMetrics error;
+    double rays = 0.0, shadow_rays = 0.0, paths = 0.0, vertices = 0.0;
+};
+
+// The seeds' samples at one spp, summarised.
+struct BenchPoint {
+    uint32_t spp = 0;
+    int seeds = 0;
+    Spread seconds, rel_mse, rmse, mape;
+    double mrays_per_s = 0.0;       // closest-hit + shadow rays per second, millions
+    double mean_path_length = 0.0;  // surface interactions per path
+    double rays_per_sample = 0.0;   // closest-hit + shadow rays per path
+    double efficiency() const { return rel_mse.mean > 0 && seconds.mean > 0 ? 1.0 / (rel_mse.mean * seconds.mean) : 0.0; }
+};
+
+struct BenchSeries {
+    BenchConfig config;
+    std::vector<BenchPoint> points;  // increasing spp (powers of two)
+    SlopeFit slope_spp, slope_time;  // log-log fits of mean relMSE
+};
+
+// A pipe table (Markdown-compatible) of every point of every series.
+void print_points_table(const std::vector<BenchSeries>& series);
+void write_csv(const std::string& path, const std::string& scene, const std::vector<BenchSeries>& series);
+// Two log-log panels (relMSE against seconds and against spp), one curve per configuration with the min-max
+// spread over seeds as bars, and a slope -1 guide in each panel.
+void write_svg(const std::string& path, const std::string& title, const std::vector<BenchSeries>& series);
+
+}  // namespace pv::app

@@ -1,0 +1,47 @@
+// core/scene_gen.cpp: generated benchmark scenes (see scene_gen.h).
+#include "core/scene_gen.h"
+
+#include "core/scene_file.h"
+
+namespace pv {
+
+void add_displaced_sphere(Scene& s, vec3 c, float r, float amp, int n_theta, int n_phi, uint32_t material) {
+    const uint32_t base = static_cast<uint32_t>(s.positions.size());
+    // Vertex rows from pole to pole; the poles are rows of coincident vertices (their triangles are dropped).
+    for (int i = 0; i <= n_theta; ++i) {
+        const float theta = kPi * float(i) / float(n_theta);
+        for (int j = 0; j < n_phi; ++j) {
+            const float phi = 2.f * kPi * float(j) / float(n_phi);
+            const vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+            const float bump = 1.f + amp * std::sin(7.f * theta) * std::sin(9.f * phi) * std::sin(3.f * theta + 2.f * phi);
+            s.positions.push_back(c + r * bump * d);
+        }
+    }
+    auto at = [&](int i, int j) { return base + uint32_t(i * n_phi + (j % n_phi)); };
+    const size_t before = s.triangles.size();
+    for (int i = 0; i < n_theta; ++i)
+        for (int j = 0; j < n_phi; ++j) {
+            // Outward winding (counter-clockwise seen from outside).
+            if (i > 0) s.triangles.push_back(uvec3(at(i, j), at(i, j + 1), at(i + 1, j)));
+            if (i + 1 < n_theta) s.triangles.push_back(uvec3(at(i, j + 1), at(i + 1, j + 1), at(i + 1, j)));
+        }
+    const size_t added = s.triangles.size() - before;
+    s.material_ids.insert(s.material_ids.end(), added, material);
+    if (!s.normal_indices.empty()) s.normal_indices.insert(s.normal_indices.end(), added, uvec3(kNoIndex));
+    if (!s.uv_indices.empty()) s.uv_indices.insert(s.uv_indices.end(), added, uvec3(kNoIndex));
+}
+
+std::optional<Scene> generated_scene(const std::string& keyword) {
+    if (keyword != "large-mesh") return std::nullopt;
+    Scene s = load_scene(builtin_scene_path());
+    Material white;
+    white.name = "generated-sphere";
+    white.bsdf = Lambertian{vec3(0.725f, 0.71f, 0.68f)};
+    s.materials.push_back(white);
+    add_displaced_sphere(s, vec3(278.f, 150.f, 280.f), 130.f, 0.06f, 512, 1024,
+                         static_cast<uint32_t>(s.materials.size() - 1));
+    s.source = "large-mesh (generated: Cornell box + displaced sphere)";
+    return s;
+}
+
+}  // namespace pv

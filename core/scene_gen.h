@@ -1,0 +1,21 @@
+// core/scene_gen.h: scenes generated at run time, by keyword, for benchmarks (a large mesh is not shipped).
+//   "large-mesh": the built-in Cornell box with a displaced sphere of 1,046,528 triangles (1024 x 512 grid) on a
+//                 white diffuse material, standing in for the box's contents.
+#pragma once
+
+#include "core/scene.h"
+
+#include <optional>
+#include <string>
+
+namespace pv {
+
+// The scene named `keyword`, or nothing when it is not a generator keyword. Throws pv::Error if the built-in
+// Cornell box it builds on cannot be loaded.
+std::optional<Scene> generated_scene(const std::string& keyword);
+
+// Appends a sphere of centre c and radius r, displaced radially by a smooth pattern of relative amplitude `amp`,
+// as a (2 * n_phi * (n_theta - 1))-triangle grid with shared vertices, on material `material`.
+void add_displaced_sphere(Scene& scene, vec3 c, float r, float amp, int n_theta, int n_phi, uint32_t material);
+
+}  // namespace pv
