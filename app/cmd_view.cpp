@@ -1,17 +1,61 @@
-// app/cmd_view.cpp: `pathview view` (the default subcommand): the interactive viewer.
+// app/cmd_view.cpp: `pathview view` (the default subcommand): the interactive viewer (ui/viewer.h).
 #include "app/commands.h"
 
 #include "core/error.h"
+#include "core/scene_file.h"
+
+#ifdef PATHVIEW_HAS_UI
+#include "ui/viewer.h"
+#endif
+
+#include <cstdio>
+#include <filesystem>
 
 namespace pv::app {
+namespace {
+
+struct ViewOptions {
+    CommonOptions common;
+    std::string snapshot_dir = ".";
+    std::string log_file;
+};
+
+void run(const ViewOptions& o) {
+#ifdef PATHVIEW_HAS_UI
+    if (!std::filesystem::is_directory(o.snapshot_dir))
+        throw Error("--snapshot-dir " + o.snapshot_dir + ": not a folder; expected an existing folder for EXR snapshots");
+    ui::ViewerOptions v;
+    v.load_scene = [&o] {
+        Scene scene = load_scene(scene_path(o.common));
+        apply_camera_overrides(o.common, scene.camera);
+        for (const std::string& w : scene.warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
+        return scene;
+    };
+    v.settings = o.common.settings;
+    v.width = o.common.width;
+    v.height = o.common.height;
+    v.threads = o.common.threads;
+    v.snapshot_dir = o.snapshot_dir;
+    v.log_file = o.log_file;
+    ui::run_viewer(v);
+#else
+    (void)o;
+    throw Error("this pathview was built without the viewer (PATHVIEW_BUILD_UI=OFF); use `pathview render`");
+#endif
+}
+
+}  // namespace
 
 void add_view_command(CLI::App& app, CLI::App*& view_cmd) {
-    auto o = std::make_shared<CommonOptions>();
+    auto o = std::make_shared<ViewOptions>();
     view_cmd = app.add_subcommand("view", "Open the interactive viewer (the default)");
-    add_common_options(*view_cmd, *o);
+    add_common_options(*view_cmd, o->common);
+    view_cmd->add_option("--snapshot-dir", o->snapshot_dir, "Folder for EXR snapshots (Ctrl+S)")->capture_default_str();
+    view_cmd->add_option("--log-file", o->log_file,
+                         "Log restarts (with reasons), snapshots and timings to this file, one line each");
     view_cmd->callback([o] {
-        resolve_switches(*o);
-        throw Error("the viewer is not built yet; use `pathview render`");
+        resolve_switches(o->common);
+        run(*o);
     });
 }
 

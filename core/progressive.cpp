@@ -4,6 +4,8 @@
 // only on behalf of a request the driver has not taken yet.
 #include "core/progressive.h"
 
+#include "core/error.h"
+
 namespace pv {
 
 ProgressiveRenderer::ProgressiveRenderer(std::shared_ptr<const Scene> scene, int threads)
@@ -22,6 +24,11 @@ ProgressiveRenderer::~ProgressiveRenderer() {
 }
 
 uint64_t ProgressiveRenderer::restart(const RenderRequest& request) {
+    // Validate here, on the caller's thread: the driver thread must not meet an exception.
+    if (request.width < 1 || request.height < 1) throw Error("restart: the image size must be at least 1x1");
+    if (!request.materials.empty() && request.materials.size() != m_scene->materials.size())
+        throw Error("restart: expected one material per scene material");
+    (void)Camera(request.camera, request.width, request.height);
     uint64_t generation;
     {
         std::lock_guard<std::mutex> lock(m_mutex);

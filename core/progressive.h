@@ -63,7 +63,8 @@ public:
     ProgressiveRenderer(const ProgressiveRenderer&) = delete;
     ProgressiveRenderer& operator=(const ProgressiveRenderer&) = delete;
 
-    // Posts a new request and returns its generation. Never blocks on a pass.
+    // Posts a new request and returns its generation. Never blocks on a pass. Throws pv::Error (and posts
+    // nothing) for an invalid camera or size, or materials of the wrong count.
     uint64_t restart(const RenderRequest& request);
     // Pausing stops after the pass in flight (which is still published); resuming continues the accumulation.
     void set_paused(bool paused);

@@ -1,0 +1,149 @@
+// ui/display.cpp: GL objects of the display pass. GL entry points come from GL_GLEXT_PROTOTYPES with Mesa's
+// libGL (no loader); a core profile needs a VAO bound even for an attribute-less draw.
+#include "display.h"
+
+#include "core/error.h"
+
+#include <GLFW/glfw3.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace pv::ui {
+namespace {
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw Error(path + ": cannot read the shader (set by PATHVIEW_SHADERS); expected a GLSL file");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+unsigned compile(GLenum type, const std::string& source, const char* name) {
+    const unsigned shader = glCreateShader(type);
+    const char* src = source.c_str();
+    glShaderSource(shader, 1, &src, nullptr);
+    glCompileShader(shader);
+    GLint ok = 0;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[4096];
+        glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+        glDeleteShader(shader);
+        throw Error(std::string(name) + ": GLSL compile error: " + log);
+    }
+    return shader;
+}
+
+unsigned make_texture() {
+    unsigned tex = 0;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return tex;
+}
+
+// Reallocates `tex` at w x h when the size changed, then replaces its texels.
+void upload_texture(unsigned tex, bool realloc, GLint internal, GLenum format, int w, int h, const float* data) {
+    glBindTexture(GL_TEXTURE_2D, tex);
+    if (realloc) glTexImage2D(GL_TEXTURE_2D, 0, internal, w, h, 0, format, GL_FLOAT, nullptr);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, format, GL_FLOAT, data);
+}
+
+}  // namespace
+
+void display_shader_sources(std::string& vert, std::string& frag) {
+    if (const char* dir = std::getenv("PATHVIEW_SHADERS"); dir && *dir) {
+        vert = read_text(std::string(dir) + "/display.vert");
+        frag = read_text(std::string(dir) + "/display.frag");
+    } else {
+        vert = kEmbeddedDisplayVert;
+        frag = kEmbeddedDisplayFrag;
+    }
+}
+
+DisplayPass::DisplayPass() {
+    std::string vert, frag;
+    display_shader_sources(vert, frag);
+    const unsigned vs = compile(GL_VERTEX_SHADER, vert, "display.vert");
+    unsigned fs = 0;
+    try {
+        fs = compile(GL_FRAGMENT_SHADER, frag, "display.frag");
+    } catch (...) {
+        glDeleteShader(vs);
+        throw;
+    }
+    m_program = glCreateProgram();
+    glAttachShader(m_program, vs);
+    glAttachShader(m_program, fs);
+    glLinkProgram(m_program);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(m_program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[4096];
+        glGetProgramInfoLog(m_program, sizeof log, nullptr, log);
+        glDeleteProgram(m_program);
+        throw Error(std::string("display shaders: GLSL link error: ") + log);
+    }
+    glUseProgram(m_program);
+    glUniform1i(glGetUniformLocation(m_program, "u_color"), 0);
+    glUniform1i(glGetUniformLocation(m_program, "u_error"), 1);
+    glUniform1i(glGetUniformLocation(m_program, "u_samples"), 2);
+    m_loc_exposure = glGetUniformLocation(m_program, "u_exposure");
+    m_loc_tone_map = glGetUniformLocation(m_program, "u_tone_map");
+    m_loc_view = glGetUniformLocation(m_program, "u_view");
+    m_loc_samples_max = glGetUniformLocation(m_program, "u_samples_max");
+    glUseProgram(0);
+    glGenVertexArrays(1, &m_vao);
+    m_tex_color = make_texture();
+    m_tex_error = make_texture();
+    m_tex_samples = make_texture();
+}
+
+DisplayPass::~DisplayPass() {
+    const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples};
+    glDeleteTextures(3, textures);
+    glDeleteVertexArrays(1, &m_vao);
+    glDeleteProgram(m_program);
+}
+
+void DisplayPass::upload(const Snapshot& s) {
+    if (s.width <= 0 || s.height <= 0) return;
+    const bool realloc = s.width != m_width || s.height != m_height;
+    // Rows of 3 or 1 floats are multiples of 4 bytes: the default unpack alignment fits.
+    upload_texture(m_tex_color, realloc, GL_RGB32F, GL_RGB, s.width, s.height, s.rgb.data());
+    upload_texture(m_tex_error, realloc, GL_R32F, GL_RED, s.width, s.height, s.rel_error.data());
+    upload_texture(m_tex_samples, realloc, GL_R32F, GL_RED, s.width, s.height, s.samples.data());
+    m_width = s.width;
+    m_height = s.height;
+    m_samples_max = static_cast<float>(std::max<uint32_t>(s.spp, 1));
+}
+
+void DisplayPass::draw(int x, int y, int w, int h, const DisplayParams& p) const {
+    if (!has_image() || w <= 0 || h <= 0) return;
+    glViewport(x, y, w, h);
+    glUseProgram(m_program);
+    glUniform1f(m_loc_exposure, p.exposure);
+    glUniform1i(m_loc_tone_map, static_cast<int>(p.tone_map));
+    glUniform1i(m_loc_view, static_cast<int>(p.view));
+    glUniform1f(m_loc_samples_max, m_samples_max);
+    const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples};
+    for (int i = 0; i < 3; ++i) {
+        glActiveTexture(GL_TEXTURE0 + i);
+        glBindTexture(GL_TEXTURE_2D, textures[i]);
+    }
+    glActiveTexture(GL_TEXTURE0);
+    glBindVertexArray(m_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
+
+}  // namespace pv::ui

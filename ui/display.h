@@ -1,0 +1,50 @@
+// ui/display.h: the display pass. The latest Snapshot lives in float textures (uploaded with glTexSubImage2D) and
+// a fullscreen triangle runs shaders/display.frag over the image region: exposure, tone map and sRGB output, or
+// a false-colour view. Needs a current OpenGL 3.3 core context for its whole life.
+#pragma once
+
+#include "core/progressive.h"
+
+#include <string>
+
+namespace pv::ui {
+
+enum class ToneMap : int { Clamp = 0, Reinhard = 1, Aces = 2 };
+enum class View : int { Colour = 0, RelativeError = 1, SampleCount = 2 };
+
+// What the display shows; changing it never restarts accumulation.
+struct DisplayParams {
+    float exposure = 0.f;  // stops
+    ToneMap tone_map = ToneMap::Aces;
+    View view = View::Colour;
+};
+
+// The shader sources: embedded at build time, or read from $PATHVIEW_SHADERS/display.{vert,frag} when that is set.
+// Throws pv::Error naming the file when an override cannot be read.
+void display_shader_sources(std::string& vert, std::string& frag);
+extern const char* const kEmbeddedDisplayVert;
+extern const char* const kEmbeddedDisplayFrag;
+
+class DisplayPass {
+public:
+    // Compiles and links the display program; throws pv::Error with the GLSL log on failure.
+    DisplayPass();
+    ~DisplayPass();
+    DisplayPass(const DisplayPass&) = delete;
+    DisplayPass& operator=(const DisplayPass&) = delete;
+
+    // Copies the snapshot's images into the textures (reallocated when the size changes).
+    void upload(const Snapshot& snapshot);
+    // Draws into the viewport (x, y, w, h) in framebuffer pixels, from the bottom-left.
+    void draw(int x, int y, int w, int h, const DisplayParams& params) const;
+    bool has_image() const { return m_width > 0; }
+
+private:
+    unsigned m_program = 0, m_vao = 0;
+    unsigned m_tex_color = 0, m_tex_error = 0, m_tex_samples = 0;
+    int m_width = 0, m_height = 0;
+    float m_samples_max = 1.f;
+    int m_loc_exposure = -1, m_loc_tone_map = -1, m_loc_view = -1, m_loc_samples_max = -1;
+};
+
+}  // namespace pv::ui

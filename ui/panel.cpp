@@ -1,0 +1,275 @@
+// ui/panel.cpp: the panel's sections, top to bottom: warnings, progress, convergence, estimator, display,
+// camera, materials, snapshots.
+#include "panel.h"
+
+#include <imgui.h>
+
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+
+namespace pv::ui {
+namespace {
+
+const ImVec4 kWarningColour(1.f, 0.75f, 0.3f, 1.f);
+
+// The editable face of a Bsdf: type index (diffuse, glossy, mirror, glass) and its parameters.
+struct MaterialFields {
+    int type = 0;
+    vec3 base{0.8f};
+    vec3 specular{0.04f};
+    float roughness = 0.2f;
+    float ior = 1.5f;
+};
+
+MaterialFields fields_of(const Bsdf& bsdf) {
+    MaterialFields f;
+    if (const auto* l = std::get_if<Lambertian>(&bsdf)) {
+        f.type = 0;
+        f.base = l->albedo;
+    } else if (const auto* g = std::get_if<Glossy>(&bsdf)) {
+        f.type = 1;
+        f.base = g->diffuse;
+        f.specular = g->specular;
+        f.roughness = g->alpha;
+    } else if (const auto* m = std::get_if<Mirror>(&bsdf)) {
+        f.type = 2;
+        f.base = m->reflectance;
+    } else if (const auto* d = std::get_if<Dielectric>(&bsdf)) {
+        f.type = 3;
+        f.ior = d->eta;
+    }
+    return f;
+}
+
+Bsdf bsdf_of(const MaterialFields& f) {
+    switch (f.type) {
+    case 1: {
+        // Keep diffuse + specular <= 1 per channel, as the loader does, so the albedo stays <= 1.
+        Glossy g;
+        g.specular = glm::clamp(f.specular, vec3(0.f), vec3(1.f));
+        g.diffuse = glm::min(glm::clamp(f.base, vec3(0.f), vec3(1.f)), vec3(1.f) - g.specular);
+        g.alpha = glm::clamp(f.roughness, kMinAlpha, 1.f);
+        return g;
+    }
+    case 2: return Mirror{glm::clamp(f.base, vec3(0.f), vec3(1.f))};
+    case 3: return Dielectric{std::max(f.ior, 1.0001f)};
+    default: return Lambertian{glm::clamp(f.base, vec3(0.f), vec3(1.f))};
+    }
+}
+
+// Edits one material; true if it changed.
+bool edit_material(Material& m) {
+    MaterialFields f = fields_of(m.bsdf);
+    bool changed = ImGui::Combo("type", &f.type, "diffuse\0glossy\0mirror\0glass\0");
+    if (f.type != 3) changed |= ImGui::ColorEdit3(f.type == 2 ? "reflectance" : "base colour", &f.base.x);
+    if (f.type == 1) {
+        changed |= ImGui::ColorEdit3("specular", &f.specular.x);
+        changed |= ImGui::SliderFloat("roughness", &f.roughness, kMinAlpha, 1.f, "%.3f", ImGuiSliderFlags_Logarithmic);
+    }
+    if (f.type == 3) changed |= ImGui::SliderFloat("IOR", &f.ior, 1.0001f, 3.f, "%.3f");
+    if (changed) m.bsdf = bsdf_of(f);
+
+    // Emission as a colour (largest channel 1) times a strength.
+    float strength = max_component(m.emission);
+    vec3 colour = strength > 0.f ? m.emission / strength : vec3(1.f);
+    bool emission_changed = ImGui::ColorEdit3("emission colour", &colour.x);
+    emission_changed |= ImGui::DragFloat("emission strength", &strength, 0.05f, 0.f, 1e4f, "%.3f",
+                                         ImGuiSliderFlags_Logarithmic);
+    if (emission_changed) {
+        const float c = max_component(colour);
+        m.emission = c > 0.f ? colour / c * std::max(strength, 0.f) : vec3(0.f);
+    }
+    return changed || emission_changed;
+}
+
+// Plots log10 values against an evenly spaced log10 x range, with the range in the overlay. The plot keeps its
+// size while empty, so the widgets below it do not jump when an accumulation restarts.
+void log_log_plot(const char* label, const std::vector<float>& values, float lo, float hi, const char* x_name) {
+    const ImVec2 size(ImGui::GetContentRegionAvail().x, 64.f);  // PlotLines takes no negative widths
+    char overlay[96];
+    if (values.empty())
+        std::snprintf(overlay, sizeof overlay, "log relMSE vs log %s: from 2 spp", x_name);
+    else
+        std::snprintf(overlay, sizeof overlay, "log10 relMSE vs log10 %s, %s = %.3g..%.3g", x_name, x_name,
+                      std::pow(10.f, lo), std::pow(10.f, hi));
+    static const float kNothing[2] = {0.f, 0.f};
+    const bool empty = values.empty();
+    ImGui::PlotLines(label, empty ? kNothing : values.data(), empty ? 2 : int(values.size()), 0, overlay,
+                     empty ? 0.f : FLT_MAX, empty ? 1.f : FLT_MAX, size);
+}
+
+}  // namespace
+
+PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const PanelFacts& facts, float width) {
+    PanelActions act;
+    const ImGuiIO& io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - width, 0.f));
+    ImGui::SetNextWindowSize(ImVec2(width, io.DisplaySize.y));
+    ImGui::Begin("pathview", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    ImGui::TextWrapped("%s: %zu triangles", facts.scene_name.c_str(), facts.triangles);
+    for (const std::string& w : facts.warnings) ImGui::TextColored(kWarningColour, "warning: %s", w.c_str());
+    if (state.settings.max_depth < RenderSettings{}.max_depth)
+        ImGui::TextColored(kWarningColour, "max depth %d truncates paths (biased)", state.settings.max_depth);
+
+    if (ImGui::CollapsingHeader("Progress", ImGuiTreeNodeFlags_DefaultOpen)) progress(state, facts, act);
+    if (ImGui::CollapsingHeader("Convergence", ImGuiTreeNodeFlags_DefaultOpen)) convergence(facts);
+    if (ImGui::CollapsingHeader("Estimator", ImGuiTreeNodeFlags_DefaultOpen)) estimator(state, act);
+    if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) display(state);
+    if (ImGui::CollapsingHeader("Snapshot", ImGuiTreeNodeFlags_DefaultOpen)) snapshots(state, act);
+    if (ImGui::CollapsingHeader("Camera")) camera(state, camera_ctl, act);
+    if (ImGui::CollapsingHeader("Materials")) materials(state, act);
+    ImGui::End();
+    return act;
+}
+
+void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& act) {
+    const Snapshot& s = *facts.snapshot;
+    const double secs = std::max(s.seconds, 1e-9);
+    ImGui::Text("%u spp   %.1f s   %dx%d%s", s.spp, s.seconds, s.width, s.height,
+                facts.level > 1 ? (facts.level == 4 ? " (1/4, moving)" : " (1/2, refining)") : "");
+    ImGui::Text("%s samples/s   %.1f Mrays/s", format_si(double(s.paths) / secs).c_str(), s.mrays_per_s);
+    ImGui::Text("%.1f ms/pass   UI frame %.1f ms", s.ms_per_pass, facts.frame_ms);
+    if (s.dropped) ImGui::TextColored(kWarningColour, "%llu non-finite samples dropped", (unsigned long long)s.dropped);
+    const char* status = facts.minimised ? "minimised: paused"
+                         : state.paused  ? "paused"
+                         : s.target_reached ? "target reached: stopped"
+                                             : "rendering";
+    ImGui::Text("status: %s", status);
+    ImGui::SetNextItemWidth(100.f);
+    if (ImGui::InputInt("target spp", &state.target_spp, 16, 256)) {
+        state.target_spp = std::max(state.target_spp, 0);
+        act.control_changed = true;
+    }
+    ImGui::SetNextItemWidth(100.f);
+    if (ImGui::InputFloat("target seconds", &state.target_seconds, 5.f, 60.f, "%.0f")) {
+        state.target_seconds = std::max(state.target_seconds, 0.f);
+        act.control_changed = true;
+    }
+    if (ImGui::Button(state.paused ? "Resume" : "Pause")) {
+        state.paused = !state.paused;
+        act.control_changed = true;
+    }
+    log_widget("pause");
+    ImGui::SameLine();
+    if (ImGui::Button("Restart")) act.restart = true;
+}
+
+void Panel::convergence(const PanelFacts& facts) {
+    const Snapshot& s = *facts.snapshot;
+    const ConvergenceHistory& h = *facts.history;
+    if (s.rel_mse > 0.0)
+        ImGui::Text("est. relMSE %.3e   slope %.2f (ideal -1)", s.rel_mse, h.slope_vs_spp());
+    else
+        ImGui::TextDisabled("est. relMSE: from 2 spp (even/odd halves)");
+    float lo = 0.f, hi = 0.f;
+    const std::vector<float> by_time = h.log_log_by_seconds(64, lo, hi);
+    log_log_plot("##time", by_time, lo, hi, "s");
+    const std::vector<float> by_spp = h.log_log_by_spp(64, lo, hi);
+    log_log_plot("##spp", by_spp, lo, hi, "spp");
+}
+
+void Panel::estimator(ViewState& state, PanelActions& act) {
+    RenderSettings& s = state.settings;
+    act.settings_changed |= ImGui::Checkbox("light sampling (NEE)", &s.light_sampling);
+    log_widget("light_sampling");
+    ImGui::BeginDisabled(!s.light_sampling);
+    act.settings_changed |= ImGui::Checkbox("MIS", &s.mis);
+    ImGui::EndDisabled();
+    act.settings_changed |= ImGui::Checkbox("Russian roulette", &s.russian_roulette);
+    log_widget("rr");
+    const int unbounded = RenderSettings{}.max_depth;
+    bool is_unbounded = s.max_depth >= unbounded;
+    if (ImGui::Checkbox("unbounded depth", &is_unbounded)) {
+        s.max_depth = is_unbounded ? unbounded : 8;
+        act.settings_changed = true;
+    }
+    if (!is_unbounded) act.settings_changed |= ImGui::SliderInt("max depth", &s.max_depth, 0, 64);
+    int seed = static_cast<int>(s.seed);
+    ImGui::SetNextItemWidth(100.f);
+    if (ImGui::InputInt("seed", &seed)) {
+        s.seed = static_cast<uint32_t>(std::max(seed, 0));
+        act.settings_changed = true;
+    }
+}
+
+void Panel::display(ViewState& state) {
+    DisplayParams& d = state.display;
+    ImGui::SliderFloat("exposure", &d.exposure, -10.f, 10.f, "%+.1f stops");
+    int tone = static_cast<int>(d.tone_map);
+    if (ImGui::Combo("tone map", &tone, "clamp\0Reinhard (luminance)\0ACES filmic\0")) d.tone_map = ToneMap(tone);
+    int view = static_cast<int>(d.view);
+    if (ImGui::Combo("view", &view, "colour\0relative error (1e-3..1, log)\0sample count (0..spp)\0"))
+        d.view = View(view);
+}
+
+void Panel::camera(ViewState& state, CameraController& ctl, PanelActions& act) {
+    CameraDesc& c = ctl.desc();
+    const std::string flags = camera_flags(c);
+    ImGui::TextWrapped("%s", flags.c_str());
+    if (ImGui::Button("Copy as render flags")) {
+        ImGui::SetClipboardText(flags.c_str());
+        m_log.line("clipboard %s", flags.c_str());
+    }
+    act.camera_changed |= ImGui::SliderFloat("fov", &c.vfov_deg, 5.f, 150.f, "%.1f deg");
+    const float r = ctl.scene_radius();
+    act.camera_changed |= ImGui::SliderFloat("aperture", &c.aperture, 0.f, 0.1f * r, "%.4g");
+    act.camera_changed |= ImGui::DragFloat("focus distance", &c.focus_distance, 0.005f * r, 0.f, 100.f * r,
+                                           c.focus_distance > 0.f ? "%.4g" : "at target");
+    if (ImGui::Button(state.pick_focus ? "Click the image..." : "Focus on a point")) state.pick_focus = true;
+    ImGui::SameLine();
+    ImGui::TextDisabled("(or G under the cursor)");
+    ImGui::SliderFloat("fly speed", &ctl.fly_speed, 1e-3f * r, 10.f * r, "%.3g/s", ImGuiSliderFlags_Logarithmic);
+    if (ImGui::Button("Frame all (F)")) act.frame_all = true;
+    ImGui::SameLine();
+    if (ImGui::Button("Reset (R)")) act.reset_camera = true;
+    ImGui::TextDisabled("orbit: left drag, pan: middle or shift+left,\ndolly: scroll, fly: WASD/QE,\n"
+                        "double-click: orbit about a point");
+}
+
+void Panel::materials(ViewState& state, PanelActions& act) {
+    ImGui::TextDisabled("click the image to select a material");
+    if (ImGui::BeginListBox("##materials", ImVec2(-FLT_MIN, 6.f * ImGui::GetTextLineHeightWithSpacing()))) {
+        for (size_t i = 0; i < state.materials.size(); ++i) {
+            const Material& m = state.materials[i];
+            char label[160];
+            std::snprintf(label, sizeof label, "%s (%s)%s##%zu", m.name.c_str(), bsdf_type_name(m.bsdf),
+                          m.has_emission() ? " emits" : "", i);
+            const bool selected = int(i) == state.selected_material;
+            if (ImGui::Selectable(label, selected)) state.selected_material = int(i);
+            if (selected) ImGui::SetItemDefaultFocus();
+        }
+        ImGui::EndListBox();
+    }
+    if (state.selected_material >= 0 && size_t(state.selected_material) < state.materials.size()) {
+        ImGui::PushID(state.selected_material);
+        act.materials_changed |= edit_material(state.materials[size_t(state.selected_material)]);
+        ImGui::PopID();
+    }
+}
+
+void Panel::snapshots(ViewState& state, PanelActions& act) {
+    if (ImGui::Button("Save EXR (Ctrl+S)")) act.save = true;
+    log_widget("save");
+    ImGui::SameLine();
+    ImGui::TextDisabled("to %s", state.snapshot_dir.c_str());
+    if (!state.snapshot_status.empty()) {
+        if (state.snapshot_ok)
+            ImGui::TextWrapped("%s", state.snapshot_status.c_str());
+        else
+            ImGui::TextColored(kWarningColour, "%s", state.snapshot_status.c_str());
+    }
+}
+
+void Panel::log_widget(const char* name) {
+    if (!ImGui::IsItemVisible()) return;
+    const ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+    // A checkbox's box is at its left end: aim at the box, which is square with the item's height.
+    const std::pair<int, int> at(int(lo.x + std::min(hi.x - lo.x, hi.y - lo.y) * 0.5f), int(0.5f * (lo.y + hi.y)));
+    auto it = m_logged.find(name);
+    if (it != m_logged.end() && it->second == at) return;
+    m_logged[name] = at;
+    m_log.line("widget name=%s x=%d y=%d", name, at.first, at.second);
+}
+
+}  // namespace pv::ui

@@ -1,0 +1,78 @@
+// ui/panel.h: the Dear ImGui side panel. It edits the viewer's state in place and reports what changed; the
+// viewer decides what restarts (estimator, camera and material edits) and what only re-displays (exposure,
+// tone map, views). Drawn between ImGui::NewFrame() and ImGui::Render().
+#pragma once
+
+#include "camera_controller.h"
+#include "convergence.h"
+#include "display.h"
+#include "view_log.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace pv::ui {
+
+// The state the panel edits.
+struct ViewState {
+    RenderSettings settings;
+    std::vector<Material> materials;
+    DisplayParams display;
+    int target_spp = 0;          // 0: none
+    float target_seconds = 0.f;  // 0: none
+    bool paused = false;
+    int selected_material = -1;
+    bool pick_focus = false;     // the next click in the image sets the focus plane
+    std::string snapshot_dir;
+    std::string snapshot_status;
+    bool snapshot_ok = true;
+};
+
+// Read-only facts the panel shows.
+struct PanelFacts {
+    const Snapshot* snapshot = nullptr;  // the one on screen
+    const ConvergenceHistory* history = nullptr;
+    std::string scene_name;
+    size_t triangles = 0;
+    std::vector<std::string> warnings;
+    int full_width = 0, full_height = 0;  // the image region, in pixels
+    int level = 1;                        // render resolution divisor (4, 2 or 1)
+    bool minimised = false;
+    double frame_ms = 0.0;                // the UI's last frame
+};
+
+// What the user asked for in this frame.
+struct PanelActions {
+    bool settings_changed = false;
+    bool materials_changed = false;
+    bool camera_changed = false;   // fov, aperture, focus distance
+    bool control_changed = false;  // pause or targets
+    bool restart = false;
+    bool save = false;
+    bool frame_all = false;
+    bool reset_camera = false;
+};
+
+class Panel {
+public:
+    explicit Panel(ViewLog& log) : m_log(log) {}
+    // Draws the panel at the right edge of the window, `width` window pixels wide.
+    PanelActions draw(ViewState& state, CameraController& camera, const PanelFacts& facts, float width);
+
+private:
+    void progress(ViewState& state, const PanelFacts& facts, PanelActions& act);
+    void convergence(const PanelFacts& facts);
+    void estimator(ViewState& state, PanelActions& act);
+    void display(ViewState& state);
+    void camera(ViewState& state, CameraController& camera, PanelActions& act);
+    void materials(ViewState& state, PanelActions& act);
+    void snapshots(ViewState& state, PanelActions& act);
+    // Logs the centre of the last item, once per position change (the GUI test clicks it).
+    void log_widget(const char* name);
+
+    ViewLog& m_log;
+    std::map<std::string, std::pair<int, int>> m_logged;
+};
+
+}  // namespace pv::ui

@@ -1,1 +1,0 @@
-// ui/ui_placeholder.cpp: the viewer lands here (issue: interactive previewer).

@@ -1,0 +1,571 @@
+// ui/viewer.cpp: the main loop, after Dear ImGui's example: 1 wait for input or a published pass (capped at the
+// display rate; sleep while minimised), 2 new ImGui frame and the panel, 3 camera input where ImGui does not
+// want it, 4 restart on a change, 5 snapshot -> texture -> display pass, 6 ImGui on top, swap.
+// Any change restarts at 1/4 resolution; at rest the accumulation is refined to 1/2, then full resolution.
+#include "viewer.h"
+
+#include "camera_controller.h"
+#include "display.h"
+#include "panel.h"
+#include "snapshot_saver.h"
+#include "view_log.h"
+
+#include "core/error.h"
+
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <deque>
+#include <filesystem>
+
+namespace pv::ui {
+namespace {
+
+constexpr float kPanelWidth = 380.f;     // window pixels
+constexpr int kCoarsestLevel = 4;        // resolution divisor right after a change
+constexpr double kRestSeconds = 0.12;    // no change for this long: refine one level
+constexpr double kDoubleClickSeconds = 0.35;
+constexpr float kClickSlopPx = 3.f;      // a press that moves less than this is a click, not a drag
+
+std::string g_glfw_error;
+
+// Input events gathered by GLFW callbacks (chained by ImGui's backend) until the frame handles them.
+struct InputQueue {
+    struct Button {
+        int button, action, mods;
+        vec2 pos;
+        double time;
+    };
+    std::vector<Button> buttons;
+    std::vector<std::pair<int, int>> keys;  // presses: key, mods
+    bool fly_down[6] = {};                  // W A S D Q E, pressed without Ctrl/Alt/Super (Ctrl+S is no fly key)
+    float scroll = 0.f;
+    bool any = false;  // something happened: draw a frame
+};
+
+InputQueue& queue_of(GLFWwindow* w) { return *static_cast<InputQueue*>(glfwGetWindowUserPointer(w)); }
+
+constexpr int kFlyKeys[6] = {GLFW_KEY_W, GLFW_KEY_A, GLFW_KEY_S, GLFW_KEY_D, GLFW_KEY_Q, GLFW_KEY_E};
+
+// Tracks the fly keys from their own press and release events: a key counts as held only if it was pressed
+// without a command modifier, so a quick Ctrl+S never moves the camera.
+void track_fly_key(InputQueue& q, int key, int action, int mods) {
+    for (int i = 0; i < 6; ++i)
+        if (key == kFlyKeys[i] && action != GLFW_REPEAT)
+            q.fly_down[i] = action == GLFW_PRESS && !(mods & (GLFW_MOD_CONTROL | GLFW_MOD_ALT | GLFW_MOD_SUPER));
+}
+
+void install_callbacks(GLFWwindow* window, InputQueue* queue) {
+    glfwSetWindowUserPointer(window, queue);
+    glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
+        double x, y;
+        glfwGetCursorPos(w, &x, &y);
+        queue_of(w).buttons.push_back({button, action, mods, vec2(float(x), float(y)), glfwGetTime()});
+        queue_of(w).any = true;
+    });
+    glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
+        queue_of(w).scroll += float(dy);
+        queue_of(w).any = true;
+    });
+    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int mods) {
+        if (action == GLFW_PRESS) queue_of(w).keys.emplace_back(key, mods);
+        track_fly_key(queue_of(w), key, action, mods);
+        queue_of(w).any = true;
+    });
+    glfwSetWindowFocusCallback(window, [](GLFWwindow* w, int focused) {
+        if (!focused)
+            for (bool& k : queue_of(w).fly_down) k = false;
+        queue_of(w).any = true;
+    });
+    glfwSetCharCallback(window, [](GLFWwindow* w, unsigned) { queue_of(w).any = true; });
+    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double, double) { queue_of(w).any = true; });
+    glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { queue_of(w).any = true; });
+    glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { queue_of(w).any = true; });
+}
+
+// Scene-level warnings: the loader's, plus "no emitters" when nothing can light the scene.
+std::vector<std::string> scene_warnings(const Scene& scene, const std::vector<Material>& materials) {
+    std::vector<std::string> out = scene.warnings;
+    bool lit = !is_black(scene.background);
+    for (uint32_t id : scene.material_ids) lit = lit || (id < materials.size() && materials[id].has_emission());
+    if (!lit) out.push_back("no emitters and a black background: the image will be black");
+    return out;
+}
+
+struct GlfwSession {
+    GlfwSession() {
+        glfwSetErrorCallback([](int, const char* message) { g_glfw_error = message; });
+        if (!glfwInit())
+            throw Error("no display: cannot open a window (" + g_glfw_error +
+                        "); the viewer needs X11 or Wayland; `pathview render` works headless");
+    }
+    ~GlfwSession() { glfwTerminate(); }
+};
+
+struct ImGuiSession {
+    explicit ImGuiSession(GLFWwindow* window) {
+        IMGUI_CHECKVERSION();
+        ImGui::CreateContext();
+        ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the user's folder
+        ImGui::StyleColorsDark();
+        ImGui_ImplGlfw_InitForOpenGL(window, true);  // chains to the callbacks installed before
+        ImGui_ImplOpenGL3_Init("#version 330 core");
+    }
+    ~ImGuiSession() {
+        ImGui_ImplOpenGL3_Shutdown();
+        ImGui_ImplGlfw_Shutdown();
+        ImGui::DestroyContext();
+    }
+};
+
+struct Drag {
+    bool active = false, moved = false, pan = false;
+    int button = 0;
+    vec2 start{0.f}, last{0.f};
+};
+
+// A restart waiting for its first frame on screen (for the latency figure in the log).
+struct PendingFrame {
+    uint64_t generation;
+    double since;
+    std::string reason;
+};
+
+}  // namespace
+
+class Viewer {
+public:
+    explicit Viewer(const ViewerOptions& o);
+    ~Viewer();
+    int run();
+
+private:
+    bool wait_for_work();
+    void handle_scene_input(PanelActions& act, bool& camera_moved, double dt);
+    void click(vec2 pos, double time, bool& camera_moved);
+    std::optional<PickResult> pick(vec2 window_pos) const;
+    void update_request(const PanelActions& act, bool camera_moved, double now);
+    void post(const std::string& reason, bool with_materials, double now);
+    void poll_saves();
+    void save();
+    void log_stats(double now);
+
+    const ViewerOptions& m_opt;
+    ViewLog m_log;
+    GlfwSession m_glfw;
+    std::shared_ptr<const Scene> m_scene;
+    GLFWwindow* m_window = nullptr;
+    InputQueue m_input;
+    std::unique_ptr<ImGuiSession> m_imgui;
+    std::unique_ptr<DisplayPass> m_display;
+    std::unique_ptr<ProgressiveRenderer> m_renderer;
+    std::unique_ptr<SnapshotSaver> m_saver;
+    std::unique_ptr<CameraController> m_camera;
+    Panel m_panel{m_log};
+    ViewState m_state;
+    std::vector<std::string> m_warnings;
+
+    Snapshot m_shown, m_incoming;
+    ConvergenceHistory m_history;
+    uint64_t m_history_generation = 0;
+    std::deque<PendingFrame> m_pending_frames;
+
+    int m_full_w = 0, m_full_h = 0;  // image region, framebuffer pixels
+    float m_fb_scale = 1.f;          // framebuffer pixels per window pixel
+    int m_level = kCoarsestLevel;
+    uint64_t m_posted = 0;
+    double m_last_change = 0.0;
+    double m_refresh_hz = 60.0;
+    double m_last_frame = -1.0;
+    int m_settle_frames = 0;
+    bool m_minimised = false;
+    Drag m_drag;
+    double m_last_click_time = -1.0;
+    vec2 m_last_click_pos{0.f};
+
+    // Timing for the once-a-second log line.
+    double m_stats_since = 0.0;
+    int m_frames = 0, m_frames_total = 0;
+    double m_frame_ms_sum = 0.0, m_frame_ms_max = 0.0, m_frame_ms_last = 0.0;
+};
+
+Viewer::Viewer(const ViewerOptions& o) : m_opt(o), m_log(o.log_file) {
+    m_scene = std::make_shared<const Scene>(o.load_scene());
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    const std::string title = "pathview - " + std::filesystem::path(m_scene->source).filename().string();
+    m_window = glfwCreateWindow(o.width + int(kPanelWidth), o.height, title.c_str(), nullptr, nullptr);
+    if (!m_window) throw Error("cannot create an OpenGL 3.3 core window: " + g_glfw_error);
+    glfwMakeContextCurrent(m_window);
+    glfwSwapInterval(1);
+    install_callbacks(m_window, &m_input);
+    m_imgui = std::make_unique<ImGuiSession>(m_window);
+    m_display = std::make_unique<DisplayPass>();
+    if (const GLFWvidmode* mode = glfwGetVideoMode(glfwGetPrimaryMonitor()); mode && mode->refreshRate > 0)
+        m_refresh_hz = mode->refreshRate;
+
+    m_renderer = std::make_unique<ProgressiveRenderer>(m_scene, o.threads);
+    m_renderer->set_on_publish([] { glfwPostEmptyEvent(); });
+    m_saver = std::make_unique<SnapshotSaver>(o.snapshot_dir, [] { glfwPostEmptyEvent(); });
+    vec3 lo, hi;
+    m_scene->bounds(lo, hi);
+    m_camera = std::make_unique<CameraController>(m_scene->camera, lo, hi);
+    m_state.settings = o.settings;
+    m_state.materials = m_scene->materials;
+    m_state.snapshot_dir = o.snapshot_dir;
+    m_warnings = scene_warnings(*m_scene, m_state.materials);
+    for (const std::string& w : m_warnings) m_log.line("warning %s", w.c_str());
+    m_log.line("start scene=%s triangles=%zu threads=%d gl=\"%s\" refresh_hz=%.0f", m_scene->source.c_str(),
+               m_scene->triangle_count(), m_renderer->threads(),
+               reinterpret_cast<const char*>(glGetString(GL_RENDERER)), m_refresh_hz);
+}
+
+Viewer::~Viewer() {
+    // Reverse order of set-up: writes and render threads end before the GL context and the window go.
+    m_saver.reset();
+    m_renderer.reset();
+    m_display.reset();
+    m_imgui.reset();
+    if (m_window) glfwDestroyWindow(m_window);
+}
+
+bool Viewer::wait_for_work() {
+    // Minimised: pause rendering and sleep until the window comes back.
+    int fb_w = 0, fb_h = 0;
+    glfwGetFramebufferSize(m_window, &fb_w, &fb_h);
+    if (glfwGetWindowAttrib(m_window, GLFW_ICONIFIED) || fb_w == 0 || fb_h == 0) {
+        if (!m_minimised) {
+            m_minimised = true;
+            m_renderer->set_paused(true);
+            m_log.line("minimised: paused");
+        }
+        glfwWaitEvents();
+        return false;
+    }
+    if (m_minimised) {
+        m_minimised = false;
+        m_renderer->set_paused(m_state.paused);
+        m_log.line("restored");
+        m_input.any = true;
+    }
+    // Sleep until input or a published pass (glfwPostEmptyEvent) arrives, unless the camera is in motion;
+    // then never sooner than one display refresh after the previous frame.
+    bool fly_keys = false;
+    for (bool k : m_input.fly_down) fly_keys = fly_keys || (k && !ImGui::GetIO().WantCaptureKeyboard);
+    const bool continuous = m_drag.active || fly_keys || m_settle_frames > 0;
+    if (!continuous && !m_input.any) glfwWaitEventsTimeout(0.5);
+    const double next = m_last_frame + 1.0 / m_refresh_hz;
+    for (double now = glfwGetTime(); now < next; now = glfwGetTime()) glfwWaitEventsTimeout(next - now);
+    glfwPollEvents();
+
+    bool work = continuous || m_input.any;
+    if (m_renderer->latest(m_incoming) && m_incoming.generation >= m_shown.generation) {
+        std::swap(m_shown, m_incoming);
+        m_incoming.serial = m_shown.serial;  // latest() copies only what is newer than this
+        m_display->upload(m_shown);
+        if (m_shown.generation != m_history_generation) {
+            m_history.clear();
+            m_history_generation = m_shown.generation;
+        }
+        m_history.add(m_shown.spp, m_shown.seconds, m_shown.rel_mse);
+        work = true;
+    }
+    if (m_saver->in_flight()) {
+        poll_saves();
+        work = work || !m_saver->in_flight();
+    }
+    return work;
+}
+
+int Viewer::run() {
+    m_stats_since = m_log.now();
+    while (!glfwWindowShouldClose(m_window)) {
+        // 1. Wait for something to show.
+        const bool work = wait_for_work();
+        log_stats(m_log.now());
+        if (!work) continue;
+        const double start = glfwGetTime();
+        const double dt = m_last_frame < 0.0 ? 0.0 : std::min(start - m_last_frame, 0.1);
+        m_last_frame = start;
+        m_settle_frames = m_input.any ? 2 : std::max(m_settle_frames - 1, 0);
+        int fb_w, fb_h, win_w, win_h;
+        glfwGetFramebufferSize(m_window, &fb_w, &fb_h);
+        glfwGetWindowSize(m_window, &win_w, &win_h);
+        m_fb_scale = win_w > 0 ? float(fb_w) / float(win_w) : 1.f;
+        const int panel_fb = int(kPanelWidth * m_fb_scale);
+
+        // 2. New ImGui frame; the panel edits m_state and the camera's lens in place.
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        PanelFacts facts;
+        facts.snapshot = &m_shown;
+        facts.history = &m_history;
+        facts.scene_name = std::filesystem::path(m_scene->source).filename().string();
+        facts.triangles = m_scene->triangle_count();
+        facts.warnings = m_warnings;
+        facts.full_width = m_full_w;
+        facts.full_height = m_full_h;
+        facts.level = m_level;
+        facts.frame_ms = m_frame_ms_last;
+        PanelActions act = m_panel.draw(m_state, *m_camera, facts, kPanelWidth);
+
+        // 3. Camera and shortcuts, where ImGui does not want the mouse or keyboard.
+        bool camera_moved = false;
+        handle_scene_input(act, camera_moved, dt);
+        if (act.save) save();
+
+        // 4. Restart the accumulation on a change (a new image size included).
+        const int region_w = std::max(fb_w - panel_fb, 1);
+        if (region_w != m_full_w || fb_h != m_full_h) {
+            const bool first = m_full_w == 0;
+            m_full_w = region_w;
+            m_full_h = fb_h;
+            if (first) {
+                m_level = kCoarsestLevel;
+                post("initial", false, start);
+            } else {
+                act.restart = true;
+                m_log.line("resize %dx%d", m_full_w, m_full_h);
+            }
+        }
+        update_request(act, camera_moved, start);
+
+        // 5. The accumulation through the display pass, in the image region.
+        glViewport(0, 0, fb_w, fb_h);
+        glClearColor(0.08f, 0.08f, 0.08f, 1.f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        m_display->draw(0, 0, m_full_w, m_full_h, m_state.display);
+
+        // 6. The panel on top; swap.
+        ImGui::Render();
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        glfwSwapBuffers(m_window);
+
+        const double end = glfwGetTime();
+        m_frame_ms_last = (end - start) * 1e3;
+        m_frame_ms_sum += m_frame_ms_last;
+        m_frame_ms_max = std::max(m_frame_ms_max, m_frame_ms_last);
+        ++m_frames;
+        ++m_frames_total;
+        while (!m_pending_frames.empty() && m_pending_frames.front().generation <= m_shown.generation) {
+            const PendingFrame& p = m_pending_frames.front();
+            m_log.line("frame gen=%llu shown_gen=%llu latency_ms=%.1f reason=%s size=%dx%d spp=%u",
+                       (unsigned long long)p.generation, (unsigned long long)m_shown.generation,
+                       (end - p.since) * 1e3, p.reason.c_str(), m_shown.width, m_shown.height, m_shown.spp);
+            m_pending_frames.pop_front();
+        }
+        m_input.any = false;
+    }
+    m_log.line("exit frames=%d", m_frames_total);
+    return 0;
+}
+
+void Viewer::handle_scene_input(PanelActions& act, bool& camera_moved, double dt) {
+    const ImGuiIO& io = ImGui::GetIO();
+    double cx, cy;
+    glfwGetCursorPos(m_window, &cx, &cy);
+    const vec2 cursor{float(cx), float(cy)};
+    const float region_w_win = float(m_full_w) / m_fb_scale;
+    auto in_image = [&](vec2 p) { return p.x >= 0.f && p.x < region_w_win && p.y >= 0.f && p.y < float(m_full_h) / m_fb_scale; };
+    int win_h;
+    glfwGetWindowSize(m_window, nullptr, &win_h);
+
+    // Drags: orbit (left), pan (middle, or shift+left); a press that barely moves is a click.
+    auto drag_to = [&](vec2 p) {
+        if (glm::length(p - m_drag.start) > kClickSlopPx) m_drag.moved = true;
+        const vec2 d = p - m_drag.last;
+        m_drag.last = p;
+        if (!m_drag.moved || (d.x == 0.f && d.y == 0.f)) return;
+        if (m_drag.pan)
+            m_camera->pan(d, win_h);
+        else
+            m_camera->orbit(d);
+        camera_moved = true;
+    };
+    for (const InputQueue::Button& e : m_input.buttons) {
+        const bool usable = e.button == GLFW_MOUSE_BUTTON_LEFT || e.button == GLFW_MOUSE_BUTTON_MIDDLE;
+        if (e.action == GLFW_PRESS && usable && !m_drag.active && !io.WantCaptureMouse && in_image(e.pos)) {
+            m_drag = Drag{};
+            m_drag.active = true;
+            m_drag.button = e.button;
+            m_drag.pan = e.button == GLFW_MOUSE_BUTTON_MIDDLE || (e.mods & GLFW_MOD_SHIFT);
+            m_drag.start = m_drag.last = e.pos;
+        } else if (e.action == GLFW_RELEASE && m_drag.active && e.button == m_drag.button) {
+            drag_to(e.pos);
+            m_drag.active = false;
+            if (!m_drag.moved && e.button == GLFW_MOUSE_BUTTON_LEFT) click(e.pos, e.time, camera_moved);
+        }
+    }
+    m_input.buttons.clear();
+    if (m_drag.active) drag_to(cursor);
+
+    if (m_input.scroll != 0.f && !io.WantCaptureMouse && in_image(cursor)) {
+        m_camera->dolly(m_input.scroll);
+        camera_moved = true;
+    }
+    m_input.scroll = 0.f;
+
+    // Shortcuts. Ctrl+S and Ctrl+Q work everywhere; the rest only when ImGui is not typing.
+    for (const auto& [key, mods] : m_input.keys) {
+        const bool ctrl = (mods & GLFW_MOD_CONTROL) != 0;
+        if (ctrl && key == GLFW_KEY_S) act.save = true;
+        if (ctrl && key == GLFW_KEY_Q) glfwSetWindowShouldClose(m_window, GLFW_TRUE);
+        if (ctrl || io.WantCaptureKeyboard) continue;
+        if (key == GLFW_KEY_F) act.frame_all = true;
+        if (key == GLFW_KEY_R) act.reset_camera = true;
+        if (key == GLFW_KEY_P) {
+            m_state.paused = !m_state.paused;
+            act.control_changed = true;
+        }
+        if (key == GLFW_KEY_G && in_image(cursor))
+            if (const auto hit = pick(cursor)) {
+                m_camera->focus_on(hit->position);
+                camera_moved = true;
+                m_log.line("action focus distance=%g", double(m_camera->desc().focus_distance));
+            }
+    }
+    m_input.keys.clear();
+    if (act.frame_all) {
+        m_camera->frame_all();
+        m_log.line("action frame-all");
+    }
+    if (act.reset_camera) {
+        m_camera->reset();
+        m_log.line("action reset-camera");
+    }
+
+    // Fly: WASD in the view plane, Q/E down/up, at the panel's speed.
+    if (!io.WantCaptureKeyboard) {
+        const bool* k = m_input.fly_down;  // W A S D Q E
+        auto axis = [](bool plus, bool minus) { return float(plus) - float(minus); };
+        const vec3 move(axis(k[3], k[1]), axis(k[5], k[4]), axis(k[0], k[2]));
+        if (move != vec3(0.f) && dt > 0.0) {
+            m_camera->fly(move, float(dt));
+            camera_moved = true;
+        }
+    }
+}
+
+std::optional<PickResult> Viewer::pick(vec2 window_pos) const {
+    return m_renderer->pick(m_camera->desc(), m_full_w, m_full_h, window_pos * m_fb_scale);
+}
+
+void Viewer::click(vec2 pos, double time, bool& camera_moved) {
+    const std::optional<PickResult> hit = pick(pos);
+    if (m_state.pick_focus) {
+        m_state.pick_focus = false;
+        if (hit) {
+            m_camera->focus_on(hit->position);
+            camera_moved = true;
+            m_log.line("action focus distance=%g", double(m_camera->desc().focus_distance));
+        }
+        return;
+    }
+    const bool is_double = m_last_click_time >= 0.0 && time - m_last_click_time < kDoubleClickSeconds &&
+                           glm::length(pos - m_last_click_pos) <= kClickSlopPx;
+    m_last_click_time = is_double ? -1.0 : time;
+    m_last_click_pos = pos;
+    if (!hit) return;
+    if (is_double) {
+        m_camera->retarget(hit->position);
+        camera_moved = true;
+        m_log.line("retarget %g,%g,%g", hit->position.x, hit->position.y, hit->position.z);
+    } else {
+        m_state.selected_material = int(hit->material);
+        m_log.line("select material=%u triangle=%u", hit->material, hit->triangle);
+    }
+}
+
+void Viewer::update_request(const PanelActions& act, bool camera_moved, double now) {
+    if (glfwWindowShouldClose(m_window)) return;  // closing: nothing new to render
+    if (act.control_changed) {
+        m_renderer->set_paused(m_state.paused || m_minimised);
+        m_renderer->set_target(uint32_t(m_state.target_spp), double(m_state.target_seconds));
+        m_log.line("control paused=%d target_spp=%d target_seconds=%g", int(m_state.paused), m_state.target_spp,
+                   double(m_state.target_seconds));
+    }
+    std::string reason;
+    auto add = [&](const char* r) { reason += (reason.empty() ? "" : ",") + std::string(r); };
+    if (camera_moved || act.camera_changed || act.frame_all || act.reset_camera) add("camera");
+    if (act.settings_changed) add("settings");
+    if (act.materials_changed) add("material");
+    if (act.restart) add("restart");
+    if (!reason.empty()) {
+        if (act.materials_changed) m_warnings = scene_warnings(*m_scene, m_state.materials);
+        m_level = kCoarsestLevel;
+        post(reason, act.materials_changed, now);
+    } else if (m_level > 1 && now - m_last_change >= kRestSeconds && m_shown.generation == m_posted &&
+               m_shown.spp >= 1) {
+        m_level /= 2;
+        post("refine", false, now);
+    }
+}
+
+void Viewer::post(const std::string& reason, bool with_materials, double now) {
+    RenderRequest req;
+    req.camera = m_camera->desc();
+    req.settings = m_state.settings;
+    req.width = std::max(1, m_full_w / m_level);
+    req.height = std::max(1, m_full_h / m_level);
+    if (with_materials) req.materials = m_state.materials;
+    try {
+        m_posted = m_renderer->restart(req);
+    } catch (const Error& e) {
+        m_log.line("restart-error %s", e.what());
+        return;
+    }
+    m_last_change = now;
+    m_pending_frames.push_back({m_posted, now, reason});
+    m_log.line("restart gen=%llu reason=%s size=%dx%d level=%d %s", (unsigned long long)m_posted, reason.c_str(),
+               req.width, req.height, m_level, req.settings.describe().c_str());
+}
+
+void Viewer::save() {
+    if (m_shown.spp == 0) {
+        m_state.snapshot_status = "nothing rendered yet";
+        m_state.snapshot_ok = false;
+        return;
+    }
+    const std::string path = m_saver->save(m_shown);
+    m_state.snapshot_status = "saving " + path;
+    m_state.snapshot_ok = true;
+    m_log.line("snapshot-start path=%s spp=%u", path.c_str(), m_shown.spp);
+}
+
+void Viewer::poll_saves() {
+    for (const SaveResult& r : m_saver->finished()) {
+        m_state.snapshot_ok = r.ok;
+        if (r.ok) {
+            m_state.snapshot_status = "saved " + r.path + " (" + std::to_string(r.spp) + " spp)";
+            m_log.line("snapshot path=%s spp=%u", r.path.c_str(), r.spp);
+        } else {
+            m_state.snapshot_status = r.error;
+            m_log.line("snapshot-error path=%s error=%s", r.path.c_str(), r.error.c_str());
+        }
+    }
+}
+
+void Viewer::log_stats(double now) {
+    if (now - m_stats_since < 1.0) return;
+    const Snapshot& s = m_shown;
+    m_log.line("stats gen=%llu size=%dx%d spp=%u render_s=%.2f spp_per_s=%.2f mrays_per_s=%.2f ms_per_pass=%.1f "
+               "rel_mse=%.3e frames=%d frame_ms_avg=%.2f frame_ms_max=%.2f",
+               (unsigned long long)s.generation, s.width, s.height, s.spp, s.seconds,
+               s.seconds > 0.0 ? s.spp / s.seconds : 0.0, s.mrays_per_s, s.ms_per_pass, s.rel_mse, m_frames,
+               m_frames ? m_frame_ms_sum / m_frames : 0.0, m_frame_ms_max);
+    m_stats_since = now;
+    m_frames = 0;
+    m_frame_ms_sum = m_frame_ms_max = 0.0;
+}
+
+int run_viewer(const ViewerOptions& options) {
+    Viewer viewer(options);
+    return viewer.run();
+}
+
+}  // namespace pv::ui
