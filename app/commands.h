@@ -23,6 +23,8 @@ struct CommonOptions {
     std::optional<float> fov, aperture, focus_distance;
     std::string environment;                    // "r,g,b", a number, a map file, or "sky"
     std::optional<float> env_rotation, env_strength;
+    std::vector<float> sun;                     // direction toward the sun
+    std::optional<float> sun_irradiance, sun_radius;
 };
 
 // Adds the shared options to a (sub)command.

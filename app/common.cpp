@@ -47,6 +47,10 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                    "equirectangular map (.exr, .hdr, .png)");
     cmd.add_option("--env-rotation", o.env_rotation, "Environment rotation about +y, degrees");
     cmd.add_option("--env-strength", o.env_strength, "Environment radiance multiplier")->check(CLI::Range(0.f, 1e30f));
+    cmd.add_option("--sun", o.sun, "Add a sun in direction x,y,z (toward the sun)")->expected(3)->delimiter(',');
+    cmd.add_option("--sun-irradiance", o.sun_irradiance, "Sun irradiance on a surface facing it (default 5 with --sun)")
+        ->check(CLI::Range(0.f, 1e30f));
+    cmd.add_option("--sun-radius", o.sun_radius, "Sun angular radius, degrees (default 0.27)")->check(CLI::Range(0.01f, 45.f));
 }
 
 void resolve_switches(CommonOptions& o) {
@@ -78,6 +82,14 @@ void apply_scene_overrides(const CommonOptions& o, Scene& scene) {
     }
     if (o.env_rotation) scene.environment_rotation_deg = *o.env_rotation;
     if (o.env_strength) scene.environment_strength = *o.env_strength;
+    if (o.sun.size() == 3) {
+        scene.sun_direction = vec3(o.sun[0], o.sun[1], o.sun[2]);
+        if (!(glm::length(scene.sun_direction) > 0.f)) throw Error("--sun: the direction must not be zero");
+        scene.sun_irradiance = vec3(o.sun_irradiance.value_or(5.f));
+    } else if (o.sun_irradiance) {
+        scene.sun_irradiance = vec3(*o.sun_irradiance);
+    }
+    if (o.sun_radius) scene.sun_angular_radius_deg = *o.sun_radius;
 }
 
 std::string scene_path(const CommonOptions& o) { return o.scene.empty() ? builtin_scene_path() : o.scene; }

@@ -20,11 +20,22 @@ Environment::Environment(const Scene& scene) : m_strength(scene.environment_stre
             }
         }
         m_dist = Distribution2D(f, w, h);
-        m_black = !(m_strength > 0.f);
+        m_sky_black = !(m_strength > 0.f) || m_dist.empty();
     } else {
         m_constant = scene.background * m_strength;
-        m_black = pv::is_black(m_constant);
+        m_sky_black = pv::is_black(m_constant);
     }
+    // The sun: irradiance E from a uniform disk of angular radius a is L pi sin^2(a), so L = E / (pi sin^2 a).
+    const float radius = glm::radians(glm::clamp(scene.sun_angular_radius_deg, 0.01f, 45.f));
+    const float len = glm::length(scene.sun_direction);
+    if (!pv::is_black(scene.sun_irradiance) && len > 0.f && std::isfinite(len)) {
+        m_sun_dir = scene.sun_direction / len;
+        m_sun_cos = std::cos(radius);
+        m_sun_radiance = scene.sun_irradiance / (kPi * sqr(std::sin(radius)));
+        m_sun_frame = Frame(m_sun_dir);
+        m_p_sun = m_sky_black ? 1.f : 0.5f;
+    }
+    m_black = m_sky_black && m_p_sun == 0.f;
 }
 
 vec2 Environment::direction_to_uv(vec3 d) const {
@@ -42,6 +53,19 @@ vec3 Environment::uv_to_direction(vec2 uv) const {
 }
 
 vec3 Environment::eval(vec3 dir) const {
+    vec3 sun(0.f);
+    if (m_p_sun > 0.f && glm::dot(dir, m_sun_dir) >= m_sun_cos) sun = m_sun_radiance;
+    return sun + eval_sky(dir);
+}
+
+float Environment::pdf_sun(vec3 dir) const {
+    // Uniform in the cone: solid angle 2 pi (1 - cos a).
+    if (m_p_sun == 0.f || glm::dot(dir, m_sun_dir) < m_sun_cos) return 0.f;
+    return 1.f / (2.f * kPi * (1.f - m_sun_cos));
+}
+
+vec3 Environment::eval_sky(vec3 dir) const {
+    if (m_sky_black) return vec3(0.f);
     if (!m_map) return m_constant;
     const vec2 uv = direction_to_uv(dir);
     // Nearest texel: uv -> texel centre, so the radiance is constant over each sampled cell.
@@ -53,29 +77,41 @@ vec3 Environment::eval(vec3 dir) const {
 std::optional<EnvironmentSample> Environment::sample(vec2 u) const {
     if (m_black) return std::nullopt;
     EnvironmentSample s;
-    if (!m_map) {
-        s.wi = square_to_uniform_sphere(u);
-        s.pdf = uniform_sphere_pdf();
-        s.le = m_constant;
-        return s;
+    if (u.x < m_p_sun) {
+        // The sun: uniform direction in its cone (u.x rescaled to [0, 1) for reuse).
+        const float ux = glm::min(u.x / m_p_sun, kOneMinusEpsilon);
+        const float cos_t = 1.f - ux * (1.f - m_sun_cos);
+        const float sin_t = safe_sqrt(1.f - cos_t * cos_t);
+        const float phi = 2.f * kPi * u.y;
+        s.wi = m_sun_frame.to_world(vec3(sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t));
+    } else if (!m_map) {
+        const vec2 us((u.x - m_p_sun) / (1.f - m_p_sun), u.y);
+        s.wi = square_to_uniform_sphere(vec2(glm::min(us.x, kOneMinusEpsilon), us.y));
+    } else {
+        const vec2 us(glm::min((u.x - m_p_sun) / (1.f - m_p_sun), kOneMinusEpsilon), u.y);
+        float pdf_uv = 0.f;
+        const vec2 uv = m_dist.sample(us, &pdf_uv);
+        if (!(pdf_uv > 0.f) || !(std::sin(uv.y * kPi) > 0.f)) return std::nullopt;
+        s.wi = uv_to_direction(uv);
     }
-    float pdf_uv = 0.f;
-    const vec2 uv = m_dist.sample(u, &pdf_uv);
-    const float sin_theta = std::sin(uv.y * kPi);
-    if (!(pdf_uv > 0.f) || !(sin_theta > 0.f)) return std::nullopt;
-    s.wi = uv_to_direction(uv);
-    // Jacobian of (u, v) -> direction: d omega = 2 pi^2 sin(theta) du dv.
-    s.pdf = pdf_uv / (2.f * kPi * kPi * sin_theta);
+    s.pdf = pdf(s.wi);
+    if (!(s.pdf > 0.f)) return std::nullopt;
     s.le = eval(s.wi);
     return s;
 }
 
 float Environment::pdf(vec3 dir) const {
     if (m_black) return 0.f;
+    return m_p_sun * pdf_sun(dir) + (1.f - m_p_sun) * pdf_sky(dir);
+}
+
+float Environment::pdf_sky(vec3 dir) const {
+    if (m_sky_black) return 0.f;
     if (!m_map) return uniform_sphere_pdf();
     const vec2 uv = direction_to_uv(dir);
     const float sin_theta = std::sin(uv.y * kPi);
     if (!(sin_theta > 0.f)) return 0.f;
+    // Jacobian of (u, v) -> direction: d omega = 2 pi^2 sin(theta) du dv.
     return m_dist.pdf(uv) / (2.f * kPi * kPi * sin_theta);
 }
 

@@ -1,4 +1,6 @@
-// core/environment.h: light from infinitely far away: a constant radiance, or an equirectangular map
+// core/environment.h: light from infinitely far away: a sky (a constant radiance, or an equirectangular map)
+// plus an optional sun disk. Sampling picks the sun or the sky (one half each when both shine) and pdf() is the
+// mixture of the two, so MIS sees one light. The sky is a constant radiance, or an equirectangular map
 // (latitude-longitude, +y up) importance-sampled by a piecewise-constant distribution over its texels weighted by
 // luminance * sin(theta). The map is looked up per texel (no filtering) so the sampling pdf is exactly
 // proportional to the radiance it returns. Directions: theta = acos(y); phi = atan2(-z, x) + rotation, so the
@@ -35,7 +37,18 @@ public:
 
 private:
     bool m_black = true;
+    bool m_sky_black = true;
     vec3 m_constant{0.f};
+    // Sun: unit direction, cos of the angular radius, radiance, and the probability of sampling it.
+    vec3 m_sun_dir{0.f, 1.f, 0.f};
+    float m_sun_cos = 1.f;
+    vec3 m_sun_radiance{0.f};
+    float m_p_sun = 0.f;
+    Frame m_sun_frame;
+
+    vec3 eval_sky(vec3 dir) const;
+    float pdf_sky(vec3 dir) const;
+    float pdf_sun(vec3 dir) const;
     const Texture* m_map = nullptr;
     float m_strength = 1.f;
     float m_rotation = 0.f;  // radians

@@ -47,10 +47,15 @@ struct Scene {
 
     CameraDesc camera;
     vec3 background{0.f};   // constant radiance of rays that leave the scene (when there is no environment map)
-    // Equirectangular environment map (y up; u = 0.5 looks down -z... see environment.h): index into textures.
+    // Equirectangular environment map (y up; see environment.h): index into textures.
     uint32_t environment_map = kNoIndex;
     float environment_rotation_deg = 0.f;  // about +y
     float environment_strength = 1.f;      // multiplies the map or the background
+    // Optional sun: a disk of uniform radiance seen in `sun_direction` (toward the sun) with angular radius
+    // sun_angular_radius_deg; sun_irradiance is the irradiance it gives a surface facing it. Off when black.
+    vec3 sun_direction{0.f, 1.f, 0.f};
+    float sun_angular_radius_deg = 0.27f;  // the real sun: 0.266 degrees
+    vec3 sun_irradiance{0.f};
     bool has_camera = false;
 
     std::string source;     // the file it came from, for messages

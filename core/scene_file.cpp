@@ -96,6 +96,18 @@ Scene load_json(const std::string& path) {
             if (e.contains("rotation")) scene.environment_rotation_deg = read_float(e["rotation"], path, "rotation");
             if (e.contains("strength")) scene.environment_strength = read_float(e["strength"], path, "strength");
         }
+        if (j.contains("sun")) {
+            const json& sun = j["sun"];
+            if (sun.contains("direction")) scene.sun_direction = read_vec3(sun["direction"], path, "direction");
+            if (sun.contains("angular_radius"))
+                scene.sun_angular_radius_deg = read_float(sun["angular_radius"], path, "angular_radius");
+            if (sun.contains("irradiance")) {
+                const json& e = sun["irradiance"];
+                scene.sun_irradiance =
+                    glm::max(e.is_number() ? vec3(read_float(e, path, "irradiance")) : read_vec3(e, path, "irradiance"),
+                             vec3(0.f));
+            }
+        }
         if (j.contains("materials")) {
             for (const auto& [name, o] : j["materials"].items()) {
                 bool found = false;
@@ -110,7 +122,7 @@ Scene load_json(const std::string& path) {
     } catch (const json::exception& e) {
         throw Error(path + ": " + e.what());
     }
-    use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment"));
+    use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment") || j.contains("sun"));
     return scene;
 }
 

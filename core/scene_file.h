@@ -5,6 +5,7 @@
 //                 "aperture": 0.0, "focus_distance": 0.0 },                         // lens radius; 0 = at target
 //     "background": [r,g,b],                      // constant radiance of escaping rays (default black)
 //     "environment": { "map": "sky.exr", "rotation": 0, "strength": 1 },  // equirectangular .exr/.hdr/.png
+//     "sun": { "direction": [x,y,z], "irradiance": [r,g,b], "angular_radius": 0.27 },  // toward the sun; degrees
 //     "two_sided_emitters": false,
 //     "materials": { "name": { "type": "diffuse|glossy|mirror|glass", "base_color": [r,g,b],
 //                              "specular": [r,g,b], "roughness": a, "ior": n, "emission": [r,g,b] } } }
