@@ -327,6 +327,48 @@ TEST(Environment, DiffusePlaneUnderMapMatchesAnalyticIrradiance) {
     }
 }
 
+// A sun (a cap of uniform radiance, angular radius a) over a white diffuse plane, sun at theta from the normal and
+// fully above the horizon: E = pi L sin^2(a) cos(theta) = irradiance * cos(theta) exactly (TEST-CATALOG 2.3, the
+// sphere case), so the plane's radiance is irradiance * cos(theta) / pi. With and without a sky under it.
+TEST(Environment, SunOnDiffusePlaneMatchesClosedForm) {
+    const float theta = glm::radians(40.f);
+    const int spp = 20000;
+    const double k = sidak_k(12);
+    for (const float sky : {0.f, 0.5f}) {
+        auto scene = std::make_shared<Scene>();
+        const uint32_t white = test::add_material(*scene, Material{"white", Lambertian{vec3(1.f)}});
+        test::add_quad(*scene, vec3(-1e3f, 0, 1e3f), vec3(1e3f, 0, 1e3f), vec3(1e3f, 0, -1e3f), vec3(-1e3f, 0, -1e3f),
+                       white);
+        scene->sun_direction = vec3(std::sin(theta), std::cos(theta), 0.f);
+        scene->sun_angular_radius_deg = 5.f;  // wide enough that BSDF sampling alone finds it
+        scene->sun_irradiance = vec3(2.f, 1.f, 0.5f);
+        scene->background = vec3(sky);
+        const test::Tracer tracer(scene);
+        const struct { bool nee, mis; const char* name; } modes[] = {
+            {false, false, "bsdf"}, {true, false, "nee"}, {true, true, "mis"}};
+        for (const auto& mode : modes) {
+            RenderSettings s;
+            s.light_sampling = mode.nee;
+            s.mis = mode.mis;
+            s.russian_roulette = false;
+            s.max_depth = 1;
+            Moments m;
+            PathCounters c;
+            Sampler sampler(31);
+            for (int i = 0; i < spp; ++i) {
+                sampler.start(uvec2(5, 6), uint32_t(i));
+                Ray r;
+                r.o = vec3(0.1f, 1.f, 0.2f);
+                r.d = vec3(0.f, -1.f, 0.f);
+                m.add(trace_path(tracer.view(), s, r, sampler, c).x);
+            }
+            const double expected = 2.0 * std::cos(theta) / M_PI + sky;  // sun + the sky's upper hemisphere
+            EXPECT_LE(std::fabs(m.mean - expected), k * m.stderr_of_mean())
+                << mode.name << " sky " << sky << ": " << m.mean << " vs " << expected;
+        }
+    }
+}
+
 TEST(Environment, UnlitSceneGetsTheDefaultSkyAndSaysSo) {
     TempDir dir;
     const std::string obj = dir.file("plane.obj", "v 0 0 0\nv 1 0 0\nv 1 0 1\nf 1 3 2\n");
