@@ -96,6 +96,9 @@ Accel::Accel(const Scene& s) : m_impl(std::make_unique<Impl>()) {
     rtcSetDeviceMemoryMonitorFunction(im.device, on_memory, &im.memory);
     im.scene = rtcNewScene(im.device);
     rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_MEDIUM);
+    // Robust mode: without it Embree's faster triangle test reports false hits on slivers whose vertices span
+    // many orders of magnitude, even from origins offset beyond p's error bound (tests/test_reintersection.cpp).
+    rtcSetSceneFlags(im.scene, RTC_SCENE_FLAG_ROBUST);
     if (!s.triangles.empty()) {
         RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
         auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,

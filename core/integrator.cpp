@@ -14,6 +14,7 @@ inline float power_heuristic(float pa, float pb) {
 
 struct Surface {
     vec3 p;
+    vec3 p_error; // bound on p's rounding error (barycentric_error), for offset_ray_origin
     vec3 ng;      // unit geometric normal from the winding order
     vec3 ns;      // unit shading normal, same side as ng
     float area;   // triangle area
@@ -26,6 +27,7 @@ inline Surface surface_at(const Scene& s, const Hit& hit) {
     Surface sf;
     // Reconstruct p from barycentrics, not o + t d, whose error grows with t (Waechter and Binder 2019).
     sf.p = b0 * p0 + hit.u * p1 + hit.v * p2;
+    sf.p_error = barycentric_error(p0, p1, p2, b0, hit.u, hit.v);
     const vec3 c = glm::cross(p1 - p0, p2 - p0);
     const float len = glm::length(c);
     sf.area = 0.5f * len;
@@ -151,11 +153,11 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
                 if (!is_black(f)) {
                     // Shadow ray between offset endpoints; t in [0, 1) of the unnormalised segment.
                     Ray shadow;
-                    shadow.o = offset_ray_origin(sf.p, glm::dot(ls->wi, sf.ng) > 0.f ? sf.ng : -sf.ng);
+                    shadow.o = offset_ray_origin(sf.p, glm::dot(ls->wi, sf.ng) > 0.f ? sf.ng : -sf.ng, sf.p_error);
                     if (std::isinf(ls->dist)) {
                         shadow.d = ls->wi;  // toward the environment: unbounded
                     } else {
-                        const vec3 target = offset_ray_origin(ls->p, glm::dot(ls->wi, ls->n) < 0.f ? ls->n : -ls->n);
+                        const vec3 target = offset_ray_origin(ls->p, glm::dot(ls->wi, ls->n) < 0.f ? ls->n : -ls->n, ls->p_error);
                         shadow.d = target - shadow.o;
                         shadow.tmax = 1.f - 1e-4f;  // pbrt-v4's ShadowEpsilon
                     }
@@ -192,7 +194,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
             }
         }
 
-        ray.o = offset_ray_origin(sf.p, cos_g > 0.f ? ng : -ng);
+        ray.o = offset_ray_origin(sf.p, cos_g > 0.f ? ng : -ng, sf.p_error);
         ray.d = wi_world;
         ray.tmax = std::numeric_limits<float>::infinity();
     }

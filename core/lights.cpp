@@ -47,6 +47,7 @@ std::optional<LightSample> LightSet::sample(vec3 ref, float u_select, vec2 u) co
     const vec2 b = square_to_triangle(u);
     LightSample ls;
     ls.p = (1.f - b.x - b.y) * p0 + b.x * p1 + b.y * p2;
+    ls.p_error = barycentric_error(p0, p1, p2, 1.f - b.x - b.y, b.x, b.y);
     ls.n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
     const vec3 d = ls.p - ref;
     const float d2 = glm::dot(d, d);

@@ -13,6 +13,7 @@ namespace pv {
 
 struct LightSample {
     vec3 p{0.f};       // point on the light
+    vec3 p_error{0.f}; // bound on p's rounding error (barycentric_error), for offset_ray_origin
     vec3 n{0.f};       // its unit geometric normal (winding order)
     vec3 le{0.f};      // emitted radiance toward the shading point (0 from a one-sided back face)
     vec3 wi{0.f};      // unit direction from the shading point to p

@@ -49,11 +49,22 @@ struct Frame {
     vec3 to_world(vec3 v) const { return v.x * t + v.y * b + v.z * n; }
 };
 
+// Conservative bound on the rounding error of a point p = b0 p0 + b1 p1 + b2 p2 computed in float from a
+// triangle's vertices and barycentrics: gamma(7) (|b0 p0| + |b1 p1| + |b2 p2|), gamma(n) = n eps / (1 - n eps)
+// (pbrt-v4, Triangle::InteractionFromIntersection).
+inline vec3 barycentric_error(vec3 p0, vec3 p1, vec3 p2, float b0, float b1, float b2) {
+    constexpr float kGamma7 = 7.f * 0x1p-24f / (1.f - 7.f * 0x1p-24f);
+    return kGamma7 * (glm::abs(b0 * p0) + glm::abs(b1 * p1) + glm::abs(b2 * p2));
+}
+
 // Offsets a ray origin p off a surface with geometric normal n (pointing to the side the ray leaves).
 // Method of Waechter and Binder, "A Fast and Robust Method for Avoiding Self-Intersection",
 // Ray Tracing Gems ch. 6: move p by a fixed number of float ULPs along n (scale-invariant far from the origin),
 // and by a small absolute distance near the origin where ULPs are tiny. Spawn with tmin = 0.
-inline vec3 offset_ray_origin(vec3 p, vec3 n) {
+// p_error (from barycentric_error) makes it robust where p's own rounding error exceeds those ULPs (a triangle
+// whose vertices are many orders of magnitude larger than p): p then moves at least dot(|n|, p_error) along n,
+// rounded away from p (pbrt-v4, OffsetRayOrigin).
+inline vec3 offset_ray_origin(vec3 p, vec3 n, vec3 p_error = vec3(0.f)) {
     constexpr float kOrigin = 1.f / 32.f;
     constexpr float kFloatScale = 1.f / 65536.f;
     constexpr float kIntScale = 256.f;
@@ -66,6 +77,13 @@ inline vec3 offset_ray_origin(vec3 p, vec3 n) {
         float pi;
         std::memcpy(&pi, &bits, 4);
         out[i] = std::fabs(p[i]) < kOrigin ? p[i] + kFloatScale * n[i] : pi;
+    }
+    const float d = glm::dot(glm::abs(n), p_error);
+    if (d > 0.f) {
+        for (int i = 0; i < 3; ++i) {
+            if (n[i] > 0.f) out[i] = glm::max(out[i], std::nextafter(p[i] + d * n[i], HUGE_VALF));
+            if (n[i] < 0.f) out[i] = glm::min(out[i], std::nextafter(p[i] + d * n[i], -HUGE_VALF));
+        }
     }
     return out;
 }
