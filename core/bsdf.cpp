@@ -3,6 +3,8 @@
 
 #include "core/warp.h"
 
+#include <cfloat>
+
 namespace pv {
 namespace {
 
@@ -36,14 +38,14 @@ std::optional<BsdfSample> sample_lobe(const Lambertian& b, vec3 wo, float, vec2 
 
 // ---- Mirror
 std::optional<BsdfSample> sample_lobe(const Mirror& b, vec3 wo, float, vec2) {
-    if (wo.z == 0.f) return std::nullopt;
+    if (!(std::fabs(wo.z) >= FLT_MIN)) return std::nullopt;  // zero or denormal: f = 1/|cos| would overflow
     const vec3 wi = reflect_z(wo);
     return BsdfSample{b.reflectance / std::fabs(wi.z), wi, 1.f, true};
 }
 
 // ---- Dielectric
 std::optional<BsdfSample> sample_lobe(const Dielectric& b, vec3 wo, float u_lobe, vec2) {
-    if (wo.z == 0.f) return std::nullopt;
+    if (!(std::fabs(wo.z) >= FLT_MIN)) return std::nullopt;  // zero or denormal: f = 1/|cos| would overflow
     const float cos_o = wo.z;
     const float r = fresnel_dielectric(cos_o, b.eta);
     if (u_lobe < r) {
@@ -77,7 +79,9 @@ vec3 eval_lobe(const Glossy& b, vec3 wo, vec3 wi) {
     const float len2 = glm::dot(h, h);
     if (len2 == 0.f) return b.diffuse * kInvPi;
     h /= std::sqrt(len2);
-    const float spec = ggx_d(h, b.alpha) * ggx_g1(wo, b.alpha) * ggx_g1(wi, b.alpha) / (4.f * wo.z * wi.z);
+    // G1(w) / cos(w) per direction: finite (-> 2 / alpha) at grazing, where 4 cos_o cos_i can underflow to 0.
+    const float spec =
+        0.25f * ggx_d(h, b.alpha) * (ggx_g1(wo, b.alpha) / wo.z) * (ggx_g1(wi, b.alpha) / wi.z);
     return b.diffuse * kInvPi + b.specular * spec;
 }
 float pdf_lobe(const Glossy& b, vec3 wo, vec3 wi) {

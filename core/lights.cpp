@@ -17,7 +17,9 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials)
         const vec3 p0 = scene.positions[t.x];
         const float area = 0.5f * glm::length(glm::cross(scene.positions[t.y] - p0, scene.positions[t.z] - p0));
         const double w = double(luminance(m.emission)) * area * (m.two_sided_emission ? 2.0 : 1.0);
-        if (!(area > 0.f) || !(w > 0.0)) continue;
+        // Zero-area triangles, and emission whose power is not a positive finite number (an MTL "Ke 1e39" parses
+        // as +inf), are never light-sampled: one infinite power would make every pmf 0 or NaN.
+        if (!(area > 0.f) || !(w > 0.0) || !std::isfinite(w)) continue;
         m_tris.push_back(i);
         m_area.push_back(area);
         power.push_back(w);
