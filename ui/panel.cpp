@@ -117,8 +117,12 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
     if (ImGui::CollapsingHeader("Estimator", ImGuiTreeNodeFlags_DefaultOpen)) estimator(state, act);
     if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) display(state);
     if (ImGui::CollapsingHeader("Snapshot", ImGuiTreeNodeFlags_DefaultOpen)) snapshots(state, act);
-    if (ImGui::CollapsingHeader("Camera")) camera(state, camera_ctl, act);
-    if (ImGui::CollapsingHeader("Materials")) materials(state, act);
+    const bool camera_open = ImGui::CollapsingHeader("Camera");
+    log_widget("camera_header");
+    if (camera_open) camera(state, camera_ctl, act);
+    const bool materials_open = ImGui::CollapsingHeader("Materials");
+    log_widget("materials_header");
+    if (materials_open) materials(state, act);
     ImGui::End();
     return act;
 }
@@ -158,8 +162,10 @@ void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& ac
 void Panel::convergence(const PanelFacts& facts) {
     const Snapshot& s = *facts.snapshot;
     const ConvergenceHistory& h = *facts.history;
-    if (s.rel_mse > 0.0)
+    if (s.rel_mse > 0.0 && h.size() >= 3)
         ImGui::Text("est. relMSE %.3e   slope %.2f (ideal -1)", s.rel_mse, h.slope_vs_spp());
+    else if (s.rel_mse > 0.0)
+        ImGui::Text("est. relMSE %.3e", s.rel_mse);
     else
         ImGui::TextDisabled("est. relMSE: from 2 spp (even/odd halves)");
     float lo = 0.f, hi = 0.f;
@@ -201,6 +207,7 @@ void Panel::display(ViewState& state) {
     int view = static_cast<int>(d.view);
     if (ImGui::Combo("view", &view, "colour\0relative error (1e-3..1, log)\0sample count (0..spp)\0"))
         d.view = View(view);
+    log_widget("view");
 }
 
 void Panel::camera(ViewState& state, CameraController& ctl, PanelActions& act) {

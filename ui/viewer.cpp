@@ -146,7 +146,7 @@ private:
     void handle_scene_input(PanelActions& act, bool& camera_moved, double dt);
     void click(vec2 pos, double time, bool& camera_moved);
     std::optional<PickResult> pick(vec2 window_pos) const;
-    void update_request(const PanelActions& act, bool camera_moved, double now);
+    void update_request(const PanelActions& act, bool camera_moved, bool resized, double now);
     void post(const std::string& reason, bool with_materials, double now);
     void poll_saves();
     void save();
@@ -321,6 +321,7 @@ int Viewer::run() {
 
         // 4. Restart the accumulation on a change (a new image size included).
         const int region_w = std::max(fb_w - panel_fb, 1);
+        bool resized = false;
         if (region_w != m_full_w || fb_h != m_full_h) {
             const bool first = m_full_w == 0;
             m_full_w = region_w;
@@ -329,11 +330,10 @@ int Viewer::run() {
                 m_level = kCoarsestLevel;
                 post("initial", false, start);
             } else {
-                act.restart = true;
-                m_log.line("resize %dx%d", m_full_w, m_full_h);
+                resized = true;
             }
         }
-        update_request(act, camera_moved, start);
+        update_request(act, camera_moved, resized, start);
 
         // 5. The accumulation through the display pass, in the image region.
         glViewport(0, 0, fb_w, fb_h);
@@ -481,7 +481,7 @@ void Viewer::click(vec2 pos, double time, bool& camera_moved) {
     }
 }
 
-void Viewer::update_request(const PanelActions& act, bool camera_moved, double now) {
+void Viewer::update_request(const PanelActions& act, bool camera_moved, bool resized, double now) {
     if (glfwWindowShouldClose(m_window)) return;  // closing: nothing new to render
     if (act.control_changed) {
         m_renderer->set_paused(m_state.paused || m_minimised);
@@ -494,6 +494,7 @@ void Viewer::update_request(const PanelActions& act, bool camera_moved, double n
     if (camera_moved || act.camera_changed || act.frame_all || act.reset_camera) add("camera");
     if (act.settings_changed) add("settings");
     if (act.materials_changed) add("material");
+    if (resized) add("resize");
     if (act.restart) add("restart");
     if (!reason.empty()) {
         if (act.materials_changed) m_warnings = scene_warnings(*m_scene, m_state.materials);
