@@ -315,7 +315,7 @@ void run(BenchOptions& o) {
     Progress progress(!o.quiet);
     std::shared_ptr<Scene> scene = load_bench_scene(o.common);
     CameraDesc camera = scene->camera;
-    apply_camera_overrides(o.common, camera);
+    apply_camera_overrides(o.common, *scene, camera);
     const std::string scene_name = scene->source.empty() ? o.common.scene : scene->source;
 
     if (!o.rays_only) {

@@ -48,7 +48,7 @@ void run(RenderOptions& o) {
     const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
     for (const std::string& w : scene->warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
     CameraDesc camera = scene->camera;
-    apply_camera_overrides(o.common, camera);
+    apply_camera_overrides(o.common, *scene, camera);
 
     if (!o.quiet) std::fprintf(stderr, "pathview: building the BVH of %zu triangles\n", scene->triangle_count());
     Renderer renderer(scene, o.common.threads);

@@ -28,7 +28,7 @@ void run(const ViewOptions& o) {
     v.load_scene = [&o] {
         Scene scene = load_scene(scene_path(o.common));
         apply_scene_overrides(o.common, scene);
-        apply_camera_overrides(o.common, scene.camera);
+        apply_camera_overrides(o.common, scene, scene.camera);
         for (const std::string& w : scene.warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
         return scene;
     };

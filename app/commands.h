@@ -23,6 +23,7 @@ struct CommonOptions {
     std::optional<float> fov, aperture, focus_distance;
     std::string environment;                    // "r,g,b", a number, a map file, or "sky"
     std::optional<float> env_rotation, env_strength;
+    std::string bookmark;                       // start from this saved camera
     std::vector<float> sun;                     // direction toward the sun
     std::optional<float> sun_irradiance, sun_radius;
 };
@@ -31,8 +32,8 @@ struct CommonOptions {
 void add_common_options(CLI::App& cmd, CommonOptions& o);
 // Applies the on|off switches to o.settings; throws pv::Error on a bad value.
 void resolve_switches(CommonOptions& o);
-// Applies the camera overrides to `camera`.
-void apply_camera_overrides(const CommonOptions& o, CameraDesc& camera);
+// Applies --bookmark (a camera saved in the scene file), then the camera flags, to `camera`.
+void apply_camera_overrides(const CommonOptions& o, const Scene& scene, CameraDesc& camera);
 // Applies --environment / --env-rotation / --env-strength to a loaded scene (throws pv::Error on bad values).
 void apply_scene_overrides(const CommonOptions& o, Scene& scene);
 // The scene path to load (the built-in Cornell box when none was given).

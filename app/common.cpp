@@ -42,6 +42,7 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
     cmd.add_option("--aperture", o.aperture, "Thin-lens radius in scene units (0: pinhole)")->check(CLI::Range(0.f, 1e30f));
     cmd.add_option("--focus-distance", o.focus_distance, "Focus distance in scene units (0: at the target)")
         ->check(CLI::Range(0.f, 1e30f));
+    cmd.add_option("--bookmark", o.bookmark, "Start from the camera bookmark of this name saved in the scene file");
     cmd.add_option("--environment", o.environment,
                    "Light from far away: r,g,b or one number (constant radiance), 'sky' (the default sky), or an "
                    "equirectangular map (.exr, .hdr, .png)");
@@ -62,7 +63,8 @@ void resolve_switches(CommonOptions& o) {
     o.settings.sampler = *kind;
 }
 
-void apply_camera_overrides(const CommonOptions& o, CameraDesc& c) {
+void apply_camera_overrides(const CommonOptions& o, const Scene& scene, CameraDesc& c) {
+    if (!o.bookmark.empty()) c = find_bookmark(scene, o.bookmark);
     if (o.eye.size() == 3) c.eye = to_vec3(o.eye);
     if (o.target.size() == 3) c.target = to_vec3(o.target);
     if (o.up.size() == 3) c.up = to_vec3(o.up);

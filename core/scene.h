@@ -57,6 +57,12 @@ struct Scene {
     float sun_angular_radius_deg = 0.27f;  // the real sun: 0.266 degrees
     vec3 sun_irradiance{0.f};
     bool has_camera = false;
+    // Named camera views saved with the scene file ("bookmarks" in the JSON).
+    struct Bookmark {
+        std::string name;
+        CameraDesc camera;
+    };
+    std::vector<Bookmark> bookmarks;
 
     std::string source;     // the file it came from, for messages
     LoadStats stats;

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 
 namespace pv {
 namespace {
@@ -31,6 +32,27 @@ float read_float(const json& j, const std::string& file, const char* key) {
     const float v = j.get<float>();
     if (!std::isfinite(v)) throw Error(file + ": \"" + key + "\" must be finite");
     return v;
+}
+
+// A camera object; keys it lacks keep the values of `base`.
+CameraDesc read_camera(const json& c, const std::string& file, CameraDesc base) {
+    if (!c.is_object()) throw Error(file + ": a camera must be an object");
+    if (c.contains("eye")) base.eye = read_vec3(c["eye"], file, "eye");
+    if (c.contains("target")) base.target = read_vec3(c["target"], file, "target");
+    if (c.contains("up")) base.up = read_vec3(c["up"], file, "up");
+    if (c.contains("fov")) base.vfov_deg = read_float(c["fov"], file, "fov");
+    if (c.contains("aperture")) base.aperture = read_float(c["aperture"], file, "aperture");
+    if (c.contains("focus_distance")) base.focus_distance = read_float(c["focus_distance"], file, "focus_distance");
+    return base;
+}
+
+json camera_json(const CameraDesc& c) {
+    return json{{"eye", {c.eye.x, c.eye.y, c.eye.z}},
+                {"target", {c.target.x, c.target.y, c.target.z}},
+                {"up", {c.up.x, c.up.y, c.up.z}},
+                {"fov", c.vfov_deg},
+                {"aperture", c.aperture},
+                {"focus_distance", c.focus_distance}};
 }
 
 // Applies a material override: the "type" chooses the BSDF, other keys set its parameters.
@@ -79,15 +101,16 @@ Scene load_json(const std::string& path) {
         if (j.contains("background")) scene.background = glm::max(read_vec3(j["background"], path, "background"), vec3(0.f));
         scene.camera = scene.framing_camera();
         if (j.contains("camera")) {
-            const json& c = j["camera"];
-            if (c.contains("eye")) scene.camera.eye = read_vec3(c["eye"], path, "eye");
-            if (c.contains("target")) scene.camera.target = read_vec3(c["target"], path, "target");
-            if (c.contains("up")) scene.camera.up = read_vec3(c["up"], path, "up");
-            if (c.contains("fov")) scene.camera.vfov_deg = read_float(c["fov"], path, "fov");
-            if (c.contains("aperture")) scene.camera.aperture = read_float(c["aperture"], path, "aperture");
-            if (c.contains("focus_distance"))
-                scene.camera.focus_distance = read_float(c["focus_distance"], path, "focus_distance");
+            scene.camera = read_camera(j["camera"], path, scene.camera);
             scene.has_camera = true;
+        }
+        if (j.contains("bookmarks")) {
+            if (!j["bookmarks"].is_array()) throw Error(path + ": \"bookmarks\" must be an array");
+            for (const json& b : j["bookmarks"]) {
+                Scene::Bookmark bm{b.value("name", std::string("view ") + std::to_string(scene.bookmarks.size() + 1)),
+                                   read_camera(b, path, scene.camera)};
+                scene.bookmarks.push_back(std::move(bm));
+            }
         }
         if (j.contains("environment")) {
             const json& e = j["environment"];
@@ -135,6 +158,59 @@ void use_default_sky_if_unlit(Scene& scene, bool lighting_given) {
 }
 
 }  // namespace
+
+std::string save_bookmark(const std::string& path, const std::string& name, const CameraDesc& camera) {
+    namespace fs = std::filesystem;
+    const std::string ext = fs::path(path).extension().string();
+    const bool is_json = ext == ".json" || ext == ".JSON";
+    const std::string out = is_json ? path : path + ".json";
+    json j = json::object();
+    std::error_code ec;
+    if (fs::exists(out, ec)) {
+        std::ifstream in(out);
+        try {
+            j = json::parse(in);
+        } catch (const json::exception& e) {
+            throw Error(out + ": cannot add a bookmark: invalid JSON: " + e.what());
+        }
+    }
+    if (!is_json && !j.contains("obj")) j["obj"] = fs::path(path).filename().string();
+    json& list = j["bookmarks"];
+    if (!list.is_array()) list = json::array();
+    json entry = camera_json(camera);
+    entry["name"] = name;
+    bool replaced = false;
+    for (json& b : list)
+        if (b.value("name", std::string()) == name) {
+            b = entry;
+            replaced = true;
+        }
+    if (!replaced) list.push_back(entry);
+    const std::string tmp = out + ".tmp." + std::to_string(static_cast<long>(::getpid()));
+    {
+        std::ofstream f(tmp);
+        f << j.dump(2) << "\n";
+        if (!f) {
+            fs::remove(tmp, ec);
+            throw Error(out + ": cannot write the bookmark (permission denied or disk full?)");
+        }
+    }
+    fs::rename(tmp, out, ec);
+    if (ec) {
+        fs::remove(tmp, ec);
+        throw Error(out + ": cannot write the bookmark: " + ec.message());
+    }
+    return out;
+}
+
+const CameraDesc& find_bookmark(const Scene& scene, const std::string& name) {
+    std::string names;
+    for (const Scene::Bookmark& b : scene.bookmarks) {
+        if (b.name == name) return b.camera;
+        names += (names.empty() ? "" : ", ") + b.name;
+    }
+    throw Error(scene.source + ": no bookmark '" + name + "'; the scene has: " + (names.empty() ? "none" : names));
+}
 
 void set_environment(Scene& scene, const std::string& spec) {
     // A colour: "r,g,b" or a single number.

@@ -6,6 +6,7 @@
 //     "background": [r,g,b],                      // constant radiance of escaping rays (default black)
 //     "environment": { "map": "sky.exr", "rotation": 0, "strength": 1 },  // equirectangular .exr/.hdr/.png
 //     "sun": { "direction": [x,y,z], "irradiance": [r,g,b], "angular_radius": 0.27 },  // toward the sun; degrees
+//     "bookmarks": [ { "name": "door", "eye": [..], "target": [..], "up": [..], "fov": 40, ... } ],
 //     "two_sided_emitters": false,
 //     "materials": { "name": { "type": "diffuse|glossy|mirror|glass", "base_color": [r,g,b],
 //                              "specular": [r,g,b], "roughness": a, "ior": n, "emission": [r,g,b] } } }
@@ -21,6 +22,13 @@ namespace pv {
 
 // Loads `path` (.json or .obj). Throws pv::Error with "<file>: what is wrong".
 Scene load_scene(const std::string& path);
+
+// Saves `camera` as bookmark `name` (replacing one of that name) in the scene file `path`: a JSON scene file is
+// rewritten with its other keys kept; for an OBJ, a scene file "<obj>.json" next to it is created or updated.
+// Returns the scene file written. Written to a temporary file and renamed. Throws pv::Error on failure.
+std::string save_bookmark(const std::string& path, const std::string& name, const CameraDesc& camera);
+// The bookmark called `name`; throws pv::Error listing the names there are when none matches.
+const CameraDesc& find_bookmark(const Scene& scene, const std::string& name);
 
 // Sets the scene's environment from a user string: "r,g,b" or one number (constant radiance), or the path of an
 // equirectangular map (.exr, .hdr, .png, .jpg). "sky" is the default sky. Throws pv::Error on a bad value or file.

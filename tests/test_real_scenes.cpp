@@ -462,3 +462,45 @@ TEST(LargeMeshSlow, TwoMillionTrianglesInBoundedMemory) {
 
 }  // namespace
 }  // namespace pv
+
+namespace pv {
+namespace {
+
+TEST(Bookmarks, SavedWithTheSceneFileAndReloaded) {
+    TempDir dir;
+    dir.file("tri.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
+    const std::string json_path = dir.file("s.json", R"({"obj": "tri.obj", "background": [0.5, 0.5, 0.5]})");
+    CameraDesc a;
+    a.eye = vec3(1, 2, 3);
+    a.target = vec3(0.5f, 0.5f, 0.f);
+    a.vfov_deg = 33.f;
+    a.aperture = 0.01f;
+    EXPECT_EQ(save_bookmark(json_path, "front", a), json_path);
+    CameraDesc b = a;
+    b.eye = vec3(-4, 5, 6);
+    save_bookmark(json_path, "side", b);
+    b.vfov_deg = 50.f;
+    save_bookmark(json_path, "side", b);  // replaces, does not duplicate
+    const Scene s = load_scene(json_path);
+    ASSERT_EQ(s.bookmarks.size(), 2u);
+    EXPECT_FLOAT_EQ(s.background.x, 0.5f);  // the file's other keys survive
+    const CameraDesc& front = find_bookmark(s, "front");
+    EXPECT_EQ(front.eye, a.eye);
+    EXPECT_FLOAT_EQ(front.vfov_deg, 33.f);
+    EXPECT_FLOAT_EQ(front.aperture, 0.01f);
+    EXPECT_FLOAT_EQ(find_bookmark(s, "side").vfov_deg, 50.f);
+    EXPECT_THROW(find_bookmark(s, "missing"), Error);
+    // An OBJ alone gets a scene file next to it, which loads the same OBJ.
+    const std::string obj = (dir.path / "tri.obj").string();
+    const std::string sidecar = save_bookmark(obj, "top", a);
+    EXPECT_EQ(sidecar, obj + ".json");
+    const Scene t = load_scene(sidecar);
+    EXPECT_EQ(t.triangle_count(), 1u);
+    EXPECT_EQ(find_bookmark(t, "top").eye, a.eye);
+    // No temporary file is left behind.
+    for (const auto& e : std::filesystem::directory_iterator(dir.path))
+        EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << e.path();
+}
+
+}  // namespace
+}  // namespace pv
