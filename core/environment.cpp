@@ -5,8 +5,19 @@
 
 namespace pv {
 
-Environment::Environment(const Scene& scene) : m_strength(scene.environment_strength) {
-    m_rotation = glm::radians(scene.environment_rotation_deg);
+EnvironmentSettings environment_settings(const Scene& scene) {
+    EnvironmentSettings s;
+    s.background = scene.background;
+    s.rotation_deg = scene.environment_rotation_deg;
+    s.strength = scene.environment_strength;
+    s.sun_direction = scene.sun_direction;
+    s.sun_angular_radius_deg = scene.sun_angular_radius_deg;
+    s.sun_irradiance = scene.sun_irradiance;
+    return s;
+}
+
+Environment::Environment(const Scene& scene, const EnvironmentSettings& settings) : m_strength(settings.strength) {
+    m_rotation = glm::radians(settings.rotation_deg);
     if (scene.environment_map != kNoIndex && scene.environment_map < scene.textures.size()) {
         m_map = &scene.textures[scene.environment_map];
         const int w = m_map->width(), h = m_map->height();
@@ -22,16 +33,16 @@ Environment::Environment(const Scene& scene) : m_strength(scene.environment_stre
         m_dist = Distribution2D(f, w, h);
         m_sky_black = !(m_strength > 0.f) || m_dist.empty();
     } else {
-        m_constant = scene.background * m_strength;
+        m_constant = settings.background * m_strength;
         m_sky_black = pv::is_black(m_constant);
     }
     // The sun: irradiance E from a uniform disk of angular radius a is L pi sin^2(a), so L = E / (pi sin^2 a).
-    const float radius = glm::radians(glm::clamp(scene.sun_angular_radius_deg, 0.01f, 45.f));
-    const float len = glm::length(scene.sun_direction);
-    if (!pv::is_black(scene.sun_irradiance) && len > 0.f && std::isfinite(len)) {
-        m_sun_dir = scene.sun_direction / len;
+    const float radius = glm::radians(glm::clamp(settings.sun_angular_radius_deg, 0.01f, 45.f));
+    const float len = glm::length(settings.sun_direction);
+    if (!pv::is_black(settings.sun_irradiance) && len > 0.f && std::isfinite(len)) {
+        m_sun_dir = settings.sun_direction / len;
         m_sun_cos = std::cos(radius);
-        m_sun_radiance = scene.sun_irradiance / (kPi * sqr(std::sin(radius)));
+        m_sun_radiance = settings.sun_irradiance / (kPi * sqr(std::sin(radius)));
         m_sun_frame = Frame(m_sun_dir);
         m_p_sun = m_sky_black ? 1.f : 0.5f;
     }

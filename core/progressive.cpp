@@ -124,6 +124,7 @@ void ProgressiveRenderer::drive() {
         }
         if (is_new) {
             if (!request.materials.empty()) m_renderer.set_materials(request.materials);
+            if (request.environment) m_renderer.set_environment(*request.environment);
             m_renderer.restart(request.camera, request.settings, request.width, request.height);
         }
         // A cancelled pass leaves a partial film; the pending request restarts it before anything is published.

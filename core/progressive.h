@@ -16,12 +16,14 @@
 
 namespace pv {
 
-// What the driver should render. materials: empty = keep the current ones (same count as the scene's).
+// What the driver should render. materials: empty = keep the current ones (same count as the scene's);
+// environment: nothing = keep the current one.
 struct RenderRequest {
     CameraDesc camera;
     RenderSettings settings;
     int width = 1, height = 1;
     std::vector<Material> materials;
+    std::optional<EnvironmentSettings> environment;  // nothing = keep the current one
 };
 
 // The published state of one accumulation after a completed pass. Images are row-major from the top-left.

@@ -32,7 +32,8 @@ Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads)
     m_pool = std::make_unique<Pool>(m_threads);
     m_pool->arena.execute([&] { m_accel = std::make_unique<Accel>(*m_scene); });
     m_lights = LightSet(*m_scene, m_materials);
-    m_environment = Environment(*m_scene);
+    m_environment_settings = pv::environment_settings(*m_scene);
+    m_environment = Environment(*m_scene, m_environment_settings);
     m_camera = Camera(m_scene->camera, 64, 64);
 }
 
@@ -42,6 +43,11 @@ void Renderer::set_materials(const std::vector<Material>& materials) {
     if (materials.size() != m_scene->materials.size()) return;
     m_materials = materials;
     m_lights = LightSet(*m_scene, m_materials);
+}
+
+void Renderer::set_environment(const EnvironmentSettings& settings) {
+    m_environment_settings = settings;
+    m_environment = Environment(*m_scene, settings);
 }
 
 void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings, int width, int height) {

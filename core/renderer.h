@@ -37,6 +37,9 @@ public:
     // kept), and clears the film. Not concurrent with render_pass().
     void restart(const CameraDesc& camera, const RenderSettings& settings, int width, int height);
     void set_materials(const std::vector<Material>& materials);
+    // Replaces the environment's parameters (sky colour, map rotation and strength, sun); the map is the scene's.
+    void set_environment(const EnvironmentSettings& settings);
+    const EnvironmentSettings& environment_settings() const { return m_environment_settings; }
 
     // Adds one sample per pixel. Returns false if `cancel` became true during the pass (the film then holds a
     // partial pass: call restart() before using it).
@@ -61,6 +64,7 @@ private:
     std::unique_ptr<Accel> m_accel;
     std::vector<Material> m_materials;
     LightSet m_lights;
+    EnvironmentSettings m_environment_settings;
     Environment m_environment;
     RenderSettings m_settings;
     Camera m_camera;
