@@ -26,6 +26,7 @@ namespace {
 constexpr float kPanelWidth = 380.f;     // window pixels
 constexpr int kCoarsestLevel = 4;        // resolution divisor right after a change
 constexpr double kRestSeconds = 0.12;    // no change for this long: refine one level
+constexpr double kMaxDeferSeconds = 1.0; // a camera move waits at most this long for the coarse pass in flight
 constexpr double kDoubleClickSeconds = 0.35;
 constexpr float kClickSlopPx = 3.f;      // a press that moves less than this is a click, not a drag
 
@@ -42,7 +43,12 @@ struct InputQueue {
     std::vector<std::pair<int, int>> keys;  // presses: key, mods
     bool fly_down[6] = {};                  // W A S D Q E, pressed without Ctrl/Alt/Super (Ctrl+S is no fly key)
     float scroll = 0.f;
-    bool any = false;  // something happened: draw a frame
+    bool any = false;          // something happened: draw a frame
+    double first_event = -1.0; // glfwGetTime() of the first event not yet handled (for the latency figure)
+    void note() {
+        any = true;
+        if (first_event < 0.0) first_event = glfwGetTime();
+    }
 };
 
 InputQueue& queue_of(GLFWwindow* w) { return *static_cast<InputQueue*>(glfwGetWindowUserPointer(w)); }
@@ -63,26 +69,26 @@ void install_callbacks(GLFWwindow* window, InputQueue* queue) {
         double x, y;
         glfwGetCursorPos(w, &x, &y);
         queue_of(w).buttons.push_back({button, action, mods, vec2(float(x), float(y)), glfwGetTime()});
-        queue_of(w).any = true;
+        queue_of(w).note();
     });
     glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
         queue_of(w).scroll += float(dy);
-        queue_of(w).any = true;
+        queue_of(w).note();
     });
     glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int mods) {
         if (action == GLFW_PRESS) queue_of(w).keys.emplace_back(key, mods);
         track_fly_key(queue_of(w), key, action, mods);
-        queue_of(w).any = true;
+        queue_of(w).note();
     });
     glfwSetWindowFocusCallback(window, [](GLFWwindow* w, int focused) {
         if (!focused)
             for (bool& k : queue_of(w).fly_down) k = false;
-        queue_of(w).any = true;
+        queue_of(w).note();
     });
-    glfwSetCharCallback(window, [](GLFWwindow* w, unsigned) { queue_of(w).any = true; });
-    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double, double) { queue_of(w).any = true; });
-    glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { queue_of(w).any = true; });
-    glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { queue_of(w).any = true; });
+    glfwSetCharCallback(window, [](GLFWwindow* w, unsigned) { queue_of(w).note(); });
+    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double, double) { queue_of(w).note(); });
+    glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { queue_of(w).note(); });
+    glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { queue_of(w).note(); });
 }
 
 // Scene-level warnings: the loader's, plus "no emitters" when nothing can light the scene.
@@ -147,7 +153,7 @@ private:
     void click(vec2 pos, double time, bool& camera_moved);
     std::optional<PickResult> pick(vec2 window_pos) const;
     void update_request(const PanelActions& act, bool camera_moved, bool resized, double now);
-    void post(const std::string& reason, bool with_materials, double now);
+    void post(const std::string& reason, bool with_materials, double now, double since);
     void poll_saves();
     void save();
     void log_stats(double now);
@@ -177,6 +183,8 @@ private:
     int m_level = kCoarsestLevel;
     uint64_t m_posted = 0;
     double m_last_change = 0.0;
+    bool m_deferred = false;         // a camera move waits for the coarse pass in flight
+    double m_deferred_since = 0.0;   // its first input event
     double m_refresh_hz = 60.0;
     double m_last_frame = -1.0;
     int m_settle_frames = 0;
@@ -244,6 +252,7 @@ bool Viewer::wait_for_work() {
             m_log.line("minimised: paused");
         }
         glfwWaitEvents();
+        m_input.first_event = -1.0;
         return false;
     }
     if (m_minimised) {
@@ -256,13 +265,15 @@ bool Viewer::wait_for_work() {
     // then never sooner than one display refresh after the previous frame.
     bool fly_keys = false;
     for (bool k : m_input.fly_down) fly_keys = fly_keys || (k && !ImGui::GetIO().WantCaptureKeyboard);
-    const bool continuous = m_drag.active || fly_keys || m_settle_frames > 0;
-    if (!continuous && !m_input.any) glfwWaitEventsTimeout(0.5);
+    const bool continuous = fly_keys || m_settle_frames > 0;  // held keys send no events
+    // A deferred camera move needs a frame when its wait expires, even if nothing else happens.
+    const double timeout = m_deferred ? std::max(0.0, m_last_change + kMaxDeferSeconds - glfwGetTime()) : 0.5;
+    if (!continuous && !m_input.any) glfwWaitEventsTimeout(timeout);
     const double next = m_last_frame + 1.0 / m_refresh_hz;
     for (double now = glfwGetTime(); now < next; now = glfwGetTime()) glfwWaitEventsTimeout(next - now);
     glfwPollEvents();
 
-    bool work = continuous || m_input.any;
+    bool work = continuous || m_input.any || (m_deferred && glfwGetTime() >= m_last_change + kMaxDeferSeconds);
     if (m_renderer->latest(m_incoming) && m_incoming.generation >= m_shown.generation) {
         std::swap(m_shown, m_incoming);
         m_incoming.serial = m_shown.serial;  // latest() copies only what is newer than this
@@ -328,7 +339,7 @@ int Viewer::run() {
             m_full_h = fb_h;
             if (first) {
                 m_level = kCoarsestLevel;
-                post("initial", false, start);
+                post("initial", false, start, start);
             } else {
                 resized = true;
             }
@@ -360,6 +371,7 @@ int Viewer::run() {
             m_pending_frames.pop_front();
         }
         m_input.any = false;
+        m_input.first_event = -1.0;
     }
     m_log.line("exit frames=%d", m_frames_total);
     return 0;
@@ -496,18 +508,29 @@ void Viewer::update_request(const PanelActions& act, bool camera_moved, bool res
     if (act.materials_changed) add("material");
     if (resized) add("resize");
     if (act.restart) add("restart");
+    const double since = m_input.first_event >= 0.0 ? std::min(now, m_input.first_event) : now;
+    // While the camera moves, the coarse pass in flight is not cancelled for the next mouse position: it lands
+    // first, so the picture keeps following the mouse even when a pass takes longer than a UI frame.
+    const bool waiting = m_shown.generation < m_posted && now - m_last_change < kMaxDeferSeconds;
+    if (reason == "camera" && m_level == kCoarsestLevel && waiting) {
+        if (!m_deferred) m_deferred_since = since;
+        m_deferred = true;
+        return;
+    }
+    if (reason.empty() && m_deferred && !waiting) reason = "camera";
     if (!reason.empty()) {
         if (act.materials_changed) m_warnings = scene_warnings(*m_scene, m_state.materials);
         m_level = kCoarsestLevel;
-        post(reason, act.materials_changed, now);
+        post(reason, act.materials_changed, now, m_deferred ? std::min(m_deferred_since, since) : since);
+        m_deferred = false;
     } else if (m_level > 1 && now - m_last_change >= kRestSeconds && m_shown.generation == m_posted &&
                m_shown.spp >= 1) {
         m_level /= 2;
-        post("refine", false, now);
+        post("refine", false, now, now);
     }
 }
 
-void Viewer::post(const std::string& reason, bool with_materials, double now) {
+void Viewer::post(const std::string& reason, bool with_materials, double now, double since) {
     RenderRequest req;
     req.camera = m_camera->desc();
     req.settings = m_state.settings;
@@ -521,7 +544,7 @@ void Viewer::post(const std::string& reason, bool with_materials, double now) {
         return;
     }
     m_last_change = now;
-    m_pending_frames.push_back({m_posted, now, reason});
+    m_pending_frames.push_back({m_posted, since, reason});  // latency from the input event, not from this frame
     m_log.line("restart gen=%llu reason=%s size=%dx%d level=%d %s", (unsigned long long)m_posted, reason.c_str(),
                req.width, req.height, m_level, req.settings.describe().c_str());
 }
