@@ -62,9 +62,9 @@ Bsdf bsdf_of(const MaterialFields& f) {
 bool edit_material(Material& m) {
     MaterialFields f = fields_of(m.bsdf);
     bool changed = ImGui::Combo("type", &f.type, "diffuse\0glossy\0mirror\0glass\0");
-    if (f.type != 3) changed |= ImGui::ColorEdit3(f.type == 2 ? "reflectance" : "base colour", &f.base.x);
+    if (f.type != 3) changed |= ImGui::ColorEdit3(f.type == 2 ? "reflectance" : "base colour", &f.base.x, ImGuiColorEditFlags_Float);
     if (f.type == 1) {
-        changed |= ImGui::ColorEdit3("specular", &f.specular.x);
+        changed |= ImGui::ColorEdit3("specular", &f.specular.x, ImGuiColorEditFlags_Float);
         changed |= ImGui::SliderFloat("roughness", &f.roughness, kMinAlpha, 1.f, "%.3f", ImGuiSliderFlags_Logarithmic);
     }
     if (f.type == 3) changed |= ImGui::SliderFloat("IOR", &f.ior, 1.0001f, 3.f, "%.3f");
@@ -73,7 +73,7 @@ bool edit_material(Material& m) {
     // Emission as a colour (largest channel 1) times a strength.
     float strength = max_component(m.emission);
     vec3 colour = strength > 0.f ? m.emission / strength : vec3(1.f);
-    bool emission_changed = ImGui::ColorEdit3("emission colour", &colour.x);
+    bool emission_changed = ImGui::ColorEdit3("emission colour", &colour.x, ImGuiColorEditFlags_Float);
     emission_changed |= ImGui::DragFloat("emission strength", &strength, 0.05f, 0.f, 1e4f, "%.3f",
                                          ImGuiSliderFlags_Logarithmic);
     if (emission_changed) {

@@ -6,10 +6,12 @@
 
 #include "camera_controller.h"
 #include "display.h"
+#include "input.h"
 #include "panel.h"
 #include "snapshot_saver.h"
 #include "view_log.h"
 
+#include "core/environment.h"
 #include "core/error.h"
 
 #include <GLFW/glfw3.h>
@@ -32,71 +34,13 @@ constexpr float kClickSlopPx = 3.f;      // a press that moves less than this is
 
 std::string g_glfw_error;
 
-// Input events gathered by GLFW callbacks (chained by ImGui's backend) until the frame handles them.
-struct InputQueue {
-    struct Button {
-        int button, action, mods;
-        vec2 pos;
-        double time;
-    };
-    std::vector<Button> buttons;
-    std::vector<std::pair<int, int>> keys;  // presses: key, mods
-    bool fly_down[6] = {};                  // W A S D Q E, pressed without Ctrl/Alt/Super (Ctrl+S is no fly key)
-    float scroll = 0.f;
-    bool any = false;          // something happened: draw a frame
-    double first_event = -1.0; // glfwGetTime() of the first event not yet handled (for the latency figure)
-    void note() {
-        any = true;
-        if (first_event < 0.0) first_event = glfwGetTime();
-    }
-};
-
-InputQueue& queue_of(GLFWwindow* w) { return *static_cast<InputQueue*>(glfwGetWindowUserPointer(w)); }
-
-constexpr int kFlyKeys[6] = {GLFW_KEY_W, GLFW_KEY_A, GLFW_KEY_S, GLFW_KEY_D, GLFW_KEY_Q, GLFW_KEY_E};
-
-// Tracks the fly keys from their own press and release events: a key counts as held only if it was pressed
-// without a command modifier, so a quick Ctrl+S never moves the camera.
-void track_fly_key(InputQueue& q, int key, int action, int mods) {
-    for (int i = 0; i < 6; ++i)
-        if (key == kFlyKeys[i] && action != GLFW_REPEAT)
-            q.fly_down[i] = action == GLFW_PRESS && !(mods & (GLFW_MOD_CONTROL | GLFW_MOD_ALT | GLFW_MOD_SUPER));
-}
-
-void install_callbacks(GLFWwindow* window, InputQueue* queue) {
-    glfwSetWindowUserPointer(window, queue);
-    glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int mods) {
-        double x, y;
-        glfwGetCursorPos(w, &x, &y);
-        queue_of(w).buttons.push_back({button, action, mods, vec2(float(x), float(y)), glfwGetTime()});
-        queue_of(w).note();
-    });
-    glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
-        queue_of(w).scroll += float(dy);
-        queue_of(w).note();
-    });
-    glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int mods) {
-        if (action == GLFW_PRESS) queue_of(w).keys.emplace_back(key, mods);
-        track_fly_key(queue_of(w), key, action, mods);
-        queue_of(w).note();
-    });
-    glfwSetWindowFocusCallback(window, [](GLFWwindow* w, int focused) {
-        if (!focused)
-            for (bool& k : queue_of(w).fly_down) k = false;
-        queue_of(w).note();
-    });
-    glfwSetCharCallback(window, [](GLFWwindow* w, unsigned) { queue_of(w).note(); });
-    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double, double) { queue_of(w).note(); });
-    glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { queue_of(w).note(); });
-    glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { queue_of(w).note(); });
-}
-
-// Scene-level warnings: the loader's, plus "no emitters" when nothing can light the scene.
-std::vector<std::string> scene_warnings(const Scene& scene, const std::vector<Material>& materials) {
+// Scene-level warnings: the loader's, plus "no emitters" when no triangle emits and the environment is black.
+std::vector<std::string> scene_warnings(const Scene& scene, const std::vector<Material>& materials,
+                                        bool environment_lit) {
     std::vector<std::string> out = scene.warnings;
-    bool lit = !is_black(scene.background);
+    bool lit = environment_lit;
     for (uint32_t id : scene.material_ids) lit = lit || (id < materials.size() && materials[id].has_emission());
-    if (!lit) out.push_back("no emitters and a black background: the image will be black");
+    if (!lit) out.push_back("no emitters and a black environment: the image will be black");
     return out;
 }
 
@@ -172,6 +116,7 @@ private:
     Panel m_panel{m_log};
     ViewState m_state;
     std::vector<std::string> m_warnings;
+    bool m_environment_lit = false;
 
     Snapshot m_shown, m_incoming;
     ConvergenceHistory m_history;
@@ -225,7 +170,8 @@ Viewer::Viewer(const ViewerOptions& o) : m_opt(o), m_log(o.log_file) {
     m_state.settings = o.settings;
     m_state.materials = m_scene->materials;
     m_state.snapshot_dir = o.snapshot_dir;
-    m_warnings = scene_warnings(*m_scene, m_state.materials);
+    m_environment_lit = !Environment(*m_scene).is_black();
+    m_warnings = scene_warnings(*m_scene, m_state.materials, m_environment_lit);
     for (const std::string& w : m_warnings) m_log.line("warning %s", w.c_str());
     m_log.line("start scene=%s triangles=%zu threads=%d gl=\"%s\" refresh_hz=%.0f", m_scene->source.c_str(),
                m_scene->triangle_count(), m_renderer->threads(),
@@ -519,7 +465,7 @@ void Viewer::update_request(const PanelActions& act, bool camera_moved, bool res
     }
     if (reason.empty() && m_deferred && !waiting) reason = "camera";
     if (!reason.empty()) {
-        if (act.materials_changed) m_warnings = scene_warnings(*m_scene, m_state.materials);
+        if (act.materials_changed) m_warnings = scene_warnings(*m_scene, m_state.materials, m_environment_lit);
         m_level = kCoarsestLevel;
         post(reason, act.materials_changed, now, m_deferred ? std::min(m_deferred_since, since) : since);
         m_deferred = false;

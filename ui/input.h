@@ -1,0 +1,35 @@
+// ui/input.h: input events gathered by GLFW callbacks until the frame handles them. The callbacks are installed
+// before ImGui's GLFW backend, which chains to them; the frame then routes each event to ImGui or the scene.
+#pragma once
+
+#include "core/math.h"
+
+#include <GLFW/glfw3.h>
+
+#include <utility>
+#include <vector>
+
+namespace pv::ui {
+
+struct InputQueue {
+    struct Button {
+        int button, action, mods;
+        vec2 pos;     // window pixels
+        double time;  // glfwGetTime()
+    };
+    std::vector<Button> buttons;
+    std::vector<std::pair<int, int>> keys;  // presses: key, mods
+    bool fly_down[6] = {};                  // W A S D Q E, pressed without Ctrl/Alt/Super (Ctrl+S is no fly key)
+    float scroll = 0.f;
+    bool any = false;           // something happened: draw a frame
+    double first_event = -1.0;  // glfwGetTime() of the first event not yet handled (for the latency figure)
+    void note() {
+        any = true;
+        if (first_event < 0.0) first_event = glfwGetTime();
+    }
+};
+
+// Points the window's user pointer at `queue` and installs the callbacks that fill it.
+void install_callbacks(GLFWwindow* window, InputQueue* queue);
+
+}  // namespace pv::ui
