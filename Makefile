@@ -54,5 +54,9 @@ test-sanitize: deps
 bench: build
 	./$(BUILD)/pathview bench
 
+# Regenerates BENCHMARKS.md and bench/*.csv|svg in one run (about 10 minutes on 2 cores; scripts/benchmarks.sh).
+benchmarks: build
+	scripts/benchmarks.sh $(BUILD)
+
 clean:
 	rm -rf $(BUILD) build-asan build-tsan *.configure.log
