@@ -87,6 +87,9 @@ void run(RenderOptions& o) {
 
     const RenderStats& st = renderer.stats();
     const double secs = std::max(st.seconds, 1e-9);
+    if (renderer.settings().max_depth < RenderSettings{}.max_depth)
+        std::fprintf(stderr, "pathview: note: --max-depth %d truncates paths, so the image is biased (darker) "
+                     "compared with the unbounded default\n", renderer.settings().max_depth);
     std::printf("pathview: %u spp in %.2f s, %s paths/s, %s rays/s (%s closest-hit + %s shadow), %.2f rays/path, "
                 "%llu dropped samples, %d threads, %s -> %s\n",
                 st.spp, st.seconds, format_si(double(st.paths) / secs).c_str(),
