@@ -105,11 +105,14 @@ DisplayPass::DisplayPass() {
     m_tex_color = make_texture();
     m_tex_error = make_texture();
     m_tex_samples = make_texture();
+    m_tex_display = make_texture();
+    glGenFramebuffers(1, &m_fbo);
 }
 
 DisplayPass::~DisplayPass() {
-    const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples};
-    glDeleteTextures(3, textures);
+    const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples, m_tex_display};
+    glDeleteTextures(4, textures);
+    glDeleteFramebuffers(1, &m_fbo);
     glDeleteVertexArrays(1, &m_vao);
     glDeleteProgram(m_program);
 }
@@ -121,29 +124,49 @@ void DisplayPass::upload(const Snapshot& s) {
     upload_texture(m_tex_color, realloc, GL_RGB32F, GL_RGB, s.width, s.height, s.rgb.data());
     upload_texture(m_tex_error, realloc, GL_R32F, GL_RED, s.width, s.height, s.rel_error.data());
     upload_texture(m_tex_samples, realloc, GL_R32F, GL_RED, s.width, s.height, s.samples.data());
+    if (realloc) {
+        glBindTexture(GL_TEXTURE_2D, m_tex_display);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, s.width, s.height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+        glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, m_tex_display, 0);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    }
+    m_shaded = false;
     m_width = s.width;
     m_height = s.height;
     m_samples_max = static_cast<float>(std::max<uint32_t>(s.spp, 1));
 }
 
-void DisplayPass::draw(int x, int y, int w, int h, const DisplayParams& p) const {
+void DisplayPass::draw(int x, int y, int w, int h, const DisplayParams& p) {
     if (!has_image() || w <= 0 || h <= 0) return;
-    glViewport(x, y, w, h);
-    glUseProgram(m_program);
-    glUniform1f(m_loc_exposure, p.exposure);
-    glUniform1i(m_loc_tone_map, static_cast<int>(p.tone_map));
-    glUniform1i(m_loc_view, static_cast<int>(p.view));
-    glUniform1f(m_loc_samples_max, m_samples_max);
-    const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples};
-    for (int i = 0; i < 3; ++i) {
-        glActiveTexture(GL_TEXTURE0 + i);
-        glBindTexture(GL_TEXTURE_2D, textures[i]);
+    if (!m_shaded || p != m_shaded_params) {
+        // Shade the snapshot at its own resolution into m_tex_display.
+        glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
+        glViewport(0, 0, m_width, m_height);
+        glUseProgram(m_program);
+        glUniform1f(m_loc_exposure, p.exposure);
+        glUniform1i(m_loc_tone_map, static_cast<int>(p.tone_map));
+        glUniform1i(m_loc_view, static_cast<int>(p.view));
+        glUniform1f(m_loc_samples_max, m_samples_max);
+        const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples};
+        for (int i = 0; i < 3; ++i) {
+            glActiveTexture(GL_TEXTURE0 + i);
+            glBindTexture(GL_TEXTURE_2D, textures[i]);
+        }
+        glActiveTexture(GL_TEXTURE0);
+        glBindVertexArray(m_vao);
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glBindVertexArray(0);
+        glUseProgram(0);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        m_shaded = true;
+        m_shaded_params = p;
     }
-    glActiveTexture(GL_TEXTURE0);
-    glBindVertexArray(m_vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glBindVertexArray(0);
-    glUseProgram(0);
+    // Scale it into the image region (rows are bottom-up in both).
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    glBlitFramebuffer(0, 0, m_width, m_height, x, y, x + w, y + h, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
 }  // namespace pv::ui

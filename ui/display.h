@@ -1,6 +1,9 @@
 // ui/display.h: the display pass. The latest Snapshot lives in float textures (uploaded with glTexSubImage2D) and
-// a fullscreen triangle runs shaders/display.frag over the image region: exposure, tone map and sRGB output, or
-// a false-colour view. Needs a current OpenGL 3.3 core context for its whole life.
+// a fullscreen triangle runs shaders/display.frag (exposure, tone map and sRGB output, or a false-colour view)
+// into an 8-bit texture of the snapshot's size, only when the snapshot or the display parameters change; every
+// frame then scales that texture into the image region with a linear blit. On a software rasteriser this keeps
+// frames that only redraw the panel cheap, and a 1/4-resolution preview costs 1/16 of the shading.
+// Needs a current OpenGL 3.3 core context for its whole life.
 #pragma once
 
 #include "core/progressive.h"
@@ -17,6 +20,10 @@ struct DisplayParams {
     float exposure = 0.f;  // stops
     ToneMap tone_map = ToneMap::Aces;
     View view = View::Colour;
+    bool operator==(const DisplayParams& o) const {
+        return exposure == o.exposure && tone_map == o.tone_map && view == o.view;
+    }
+    bool operator!=(const DisplayParams& o) const { return !(*this == o); }
 };
 
 // The shader sources: embedded at build time, or read from $PATHVIEW_SHADERS/display.{vert,frag} when that is set.
@@ -35,13 +42,16 @@ public:
 
     // Copies the snapshot's images into the textures (reallocated when the size changes).
     void upload(const Snapshot& snapshot);
-    // Draws into the viewport (x, y, w, h) in framebuffer pixels, from the bottom-left.
-    void draw(int x, int y, int w, int h, const DisplayParams& params) const;
+    // Draws into the rectangle (x, y, w, h) of the default framebuffer, in pixels from the bottom-left.
+    void draw(int x, int y, int w, int h, const DisplayParams& params);
     bool has_image() const { return m_width > 0; }
 
 private:
     unsigned m_program = 0, m_vao = 0;
     unsigned m_tex_color = 0, m_tex_error = 0, m_tex_samples = 0;
+    unsigned m_fbo = 0, m_tex_display = 0;  // the shaded image, RGBA8 at the snapshot's size
+    bool m_shaded = false;                  // m_tex_display matches the textures and m_shaded_params
+    DisplayParams m_shaded_params;
     int m_width = 0, m_height = 0;
     float m_samples_max = 1.f;
     int m_loc_exposure = -1, m_loc_tone_map = -1, m_loc_view = -1, m_loc_samples_max = -1;

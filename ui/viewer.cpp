@@ -19,6 +19,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <ctime>
 #include <deque>
 #include <filesystem>
 
@@ -33,6 +34,12 @@ constexpr double kDoubleClickSeconds = 0.35;
 constexpr float kClickSlopPx = 3.f;      // a press that moves less than this is a click, not a drag
 
 std::string g_glfw_error;
+
+double thread_cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
 
 // Scene-level warnings: the loader's, plus "no emitters" when no triangle emits and the environment is black.
 std::vector<std::string> scene_warnings(const Scene& scene, const std::vector<Material>& materials,
@@ -142,6 +149,7 @@ private:
     double m_stats_since = 0.0;
     int m_frames = 0, m_frames_total = 0;
     double m_frame_ms_sum = 0.0, m_frame_ms_max = 0.0, m_frame_ms_last = 0.0;
+    double m_frame_cpu_ms_sum = 0.0;  // CPU time of the UI thread (Mesa's llvmpipe threads not included)
 };
 
 Viewer::Viewer(const ViewerOptions& o) : m_opt(o), m_log(o.log_file) {
@@ -246,6 +254,7 @@ int Viewer::run() {
         log_stats(m_log.now());
         if (!work) continue;
         const double start = glfwGetTime();
+        const double start_cpu = thread_cpu_seconds();
         const double dt = m_last_frame < 0.0 ? 0.0 : std::min(start - m_last_frame, 0.1);
         m_last_frame = start;
         m_settle_frames = m_input.any ? 2 : std::max(m_settle_frames - 1, 0);
@@ -304,6 +313,7 @@ int Viewer::run() {
         glfwSwapBuffers(m_window);
 
         const double end = glfwGetTime();
+        m_frame_cpu_ms_sum += (thread_cpu_seconds() - start_cpu) * 1e3;
         m_frame_ms_last = (end - start) * 1e3;
         m_frame_ms_sum += m_frame_ms_last;
         m_frame_ms_max = std::max(m_frame_ms_max, m_frame_ms_last);
@@ -524,13 +534,14 @@ void Viewer::log_stats(double now) {
     if (now - m_stats_since < 1.0) return;
     const Snapshot& s = m_shown;
     m_log.line("stats gen=%llu size=%dx%d spp=%u render_s=%.2f spp_per_s=%.2f mrays_per_s=%.2f ms_per_pass=%.1f "
-               "rel_mse=%.3e frames=%d frame_ms_avg=%.2f frame_ms_max=%.2f",
+               "rel_mse=%.3e frames=%d frame_ms_avg=%.2f frame_ms_max=%.2f frame_cpu_ms_avg=%.2f",
                (unsigned long long)s.generation, s.width, s.height, s.spp, s.seconds,
                s.seconds > 0.0 ? s.spp / s.seconds : 0.0, s.mrays_per_s, s.ms_per_pass, s.rel_mse, m_frames,
-               m_frames ? m_frame_ms_sum / m_frames : 0.0, m_frame_ms_max);
+               m_frames ? m_frame_ms_sum / m_frames : 0.0, m_frame_ms_max,
+               m_frames ? m_frame_cpu_ms_sum / m_frames : 0.0);
     m_stats_since = now;
     m_frames = 0;
-    m_frame_ms_sum = m_frame_ms_max = 0.0;
+    m_frame_ms_sum = m_frame_ms_max = m_frame_cpu_ms_sum = 0.0;
 }
 
 int run_viewer(const ViewerOptions& options) {

@@ -36,8 +36,8 @@ load=$(cut -d' ' -f1-3 /proc/loadavg)
 echo "load average: $load (2 cores)"
 awk -v a="$t0" -v b="$t1" '$2 == "stats" && $1 > a && $1 <= b && $4 == "size=512x512" { for (i = 3; i <= NF; i++) { split($i, kv, "="); v[kv[1]] = kv[2] } last = v["spp"]; rs = v["render_s"]; fr += v["frames"]; fs += v["frames"] * v["frame_ms_avg"] }
     END { printf "idle, full resolution: %d spp in %.2f s of rendering = %.2f spp/s; %d UI frames, %.1f ms each\n", last, rs, last / rs, fr, fr ? fs / fr : 0 }' "$log"
-awk -v a="$t1" -v b="$t2" '$2 == "stats" && $1 > a && $1 <= b + 1 { for (i = 3; i <= NF; i++) { split($i, kv, "="); v[kv[1]] = kv[2] } fr += v["frames"]; fs += v["frames"] * v["frame_ms_avg"]; if (v["frame_ms_max"] > mx) mx = v["frame_ms_max"] }
-    END { printf "hovering the panel while rendering: %d UI frames, mean %.1f ms, max %.1f ms\n", fr, fr ? fs / fr : 0, mx }' "$log"
+awk -v a="$t1" -v b="$t2" '$2 == "stats" && $1 > a && $1 <= b + 1 { for (i = 3; i <= NF; i++) { split($i, kv, "="); v[kv[1]] = kv[2] } fr += v["frames"]; fs += v["frames"] * v["frame_ms_avg"]; fc += v["frames"] * v["frame_cpu_ms_avg"]; if (v["frame_ms_max"] > mx) mx = v["frame_ms_max"] }
+    END { printf "hovering the panel while rendering: %d UI frames, mean %.1f ms (UI thread CPU %.1f ms), max %.1f ms\n", fr, fr ? fs / fr : 0, fr ? fc / fr : 0, mx }' "$log"
 grep -E "frame gen=.*reason=camera" "$log" | sed -E 's/.*latency_ms=([0-9.]+).*/\1/' | sort -n |
     awk '{ a[NR] = $1 } END { printf "camera input -> first frame of the new accumulation: n=%d median %.0f ms, p90 %.0f ms, max %.0f ms\n", NR, a[int((NR + 1) / 2)], a[int(NR * 0.9 + 0.5)], a[NR] }'
 "$pathview" render --width 512 --height 512 --time "$idle" -q -o "$dir/render.exr" | sed -E 's/^pathview: ([0-9]+) spp in ([0-9.]+) s.*/\1 \2/' |
