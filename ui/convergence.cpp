@@ -44,17 +44,21 @@ std::vector<float> ConvergenceHistory::log_log_by_spp(int n, float& lo, float& h
 }
 
 double ConvergenceHistory::slope_vs_spp() const {
-    const size_t n = m_points.size();
-    if (n < 2) return 0.0;
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    // Fit the upper half of the log(spp) range only: the first few estimates (2, 3, 4 spp) are themselves very
+    // noisy and would hide the asymptotic rate.
+    if (m_points.size() < 2) return 0.0;
+    const double from = 0.5 * (m_points.front().log_spp + m_points.back().log_spp);
+    double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
     for (const Point& p : m_points) {
+        if (p.log_spp < from) continue;
+        n += 1.0;
         sx += p.log_spp;
         sy += p.log_mse;
         sxx += p.log_spp * p.log_spp;
         sxy += p.log_spp * p.log_mse;
     }
-    const double den = double(n) * sxx - sx * sx;
-    return den > 0.0 ? (double(n) * sxy - sx * sy) / den : 0.0;
+    const double den = n * sxx - sx * sx;
+    return n >= 2.0 && den > 0.0 ? (n * sxy - sx * sy) / den : 0.0;
 }
 
 }  // namespace pv::ui

@@ -19,7 +19,8 @@ public:
     // empty with fewer than two points. lo/hi receive the log10 x range.
     std::vector<float> log_log_by_seconds(int n, float& lo, float& hi) const;
     std::vector<float> log_log_by_spp(int n, float& lo, float& hi) const;
-    // Least-squares slope of log10(rel_mse) against log10(spp): -1 for an unbiased Monte Carlo estimator.
+    // Least-squares slope of log10(rel_mse) against log10(spp) over the upper half of the log(spp) range:
+    // -1 for an unbiased Monte Carlo estimator; 0 with too few points.
     double slope_vs_spp() const;
     size_t size() const { return m_points.size(); }
 

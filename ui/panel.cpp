@@ -162,7 +162,7 @@ void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& ac
 void Panel::convergence(const PanelFacts& facts) {
     const Snapshot& s = *facts.snapshot;
     const ConvergenceHistory& h = *facts.history;
-    if (s.rel_mse > 0.0 && h.size() >= 3)
+    if (s.rel_mse > 0.0 && h.size() >= 4)
         ImGui::Text("est. relMSE %.3e   slope %.2f (ideal -1)", s.rel_mse, h.slope_vs_spp());
     else if (s.rel_mse > 0.0)
         ImGui::Text("est. relMSE %.3e", s.rel_mse);
