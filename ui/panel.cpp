@@ -13,6 +13,13 @@ namespace {
 
 const ImVec4 kWarningColour(1.f, 0.75f, 0.3f, 1.f);
 
+// A status line: wrapped, in the warning colour when it reports a failure.
+void status_text(const std::string& text, bool ok) {
+    if (!ok) ImGui::PushStyleColor(ImGuiCol_Text, kWarningColour);
+    ImGui::TextWrapped("%s", text.c_str());
+    if (!ok) ImGui::PopStyleColor();
+}
+
 // The editable face of a Bsdf: type index (diffuse, glossy, mirror, glass) and its parameters.
 struct MaterialFields {
     int type = 0;
@@ -123,6 +130,9 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
     const bool materials_open = ImGui::CollapsingHeader("Materials");
     log_widget("materials_header");
     if (materials_open) materials(state, act);
+    const bool scene_open = ImGui::CollapsingHeader("Scene");
+    log_widget("scene_header");
+    if (scene_open) scene(state, act);
     ImGui::End();
     return act;
 }
@@ -260,12 +270,20 @@ void Panel::snapshots(ViewState& state, PanelActions& act) {
     log_widget("save");
     ImGui::SameLine();
     ImGui::TextDisabled("to %s", state.snapshot_dir.c_str());
-    if (!state.snapshot_status.empty()) {
-        if (state.snapshot_ok)
-            ImGui::TextWrapped("%s", state.snapshot_status.c_str());
-        else
-            ImGui::TextColored(kWarningColour, "%s", state.snapshot_status.c_str());
+    if (!state.snapshot_status.empty()) status_text(state.snapshot_status, state.snapshot_ok);
+}
+
+void Panel::scene(ViewState& state, PanelActions& act) {
+    if (m_scene_path[0] == 0) std::snprintf(m_scene_path, sizeof m_scene_path, "%s", state.scene_path.c_str());
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    const bool entered = ImGui::InputText("##scene", m_scene_path, sizeof m_scene_path,
+                                          ImGuiInputTextFlags_EnterReturnsTrue);
+    log_widget("scene_path");
+    if (ImGui::Button("Load (.json or .obj)") || entered) {
+        state.scene_path = m_scene_path;
+        act.load_scene = true;
     }
+    if (!state.scene_status.empty()) status_text(state.scene_status, state.scene_ok);
 }
 
 void Panel::log_widget(const char* name) {

@@ -27,6 +27,9 @@ struct ViewState {
     std::string snapshot_dir;
     std::string snapshot_status;
     bool snapshot_ok = true;
+    std::string scene_path;      // the scene to load (Scene section)
+    std::string scene_status;
+    bool scene_ok = true;
 };
 
 // Read-only facts the panel shows.
@@ -52,6 +55,7 @@ struct PanelActions {
     bool save = false;
     bool frame_all = false;
     bool reset_camera = false;
+    bool load_scene = false;
 };
 
 class Panel {
@@ -68,11 +72,13 @@ private:
     void camera(ViewState& state, CameraController& camera, PanelActions& act);
     void materials(ViewState& state, PanelActions& act);
     void snapshots(ViewState& state, PanelActions& act);
+    void scene(ViewState& state, PanelActions& act);
     // Logs the centre of the last item, once per position change (the GUI test clicks it).
     void log_widget(const char* name);
 
     ViewLog& m_log;
     std::map<std::string, std::pair<int, int>> m_logged;
+    char m_scene_path[1024] = {};  // the Scene section's text field
 };
 
 }  // namespace pv::ui

@@ -13,6 +13,7 @@
 
 #include "core/environment.h"
 #include "core/error.h"
+#include "core/scene_file.h"
 
 #include <GLFW/glfw3.h>
 #include <backends/imgui_impl_glfw.h>
@@ -105,6 +106,10 @@ private:
     std::optional<PickResult> pick(vec2 window_pos) const;
     void update_request(const PanelActions& act, bool camera_moved, bool resized, double now);
     void post(const std::string& reason, bool with_materials, double now, double since);
+    // Renders `scene` from now on: a new ProgressiveRenderer (the old one is joined), its camera and materials.
+    void use_scene(std::shared_ptr<const Scene> scene);
+    // Loads the scene the panel names; on failure the panel shows the error and the current scene stays.
+    void load_scene(double now);
     void poll_saves();
     void save();
     void log_stats(double now);
@@ -169,21 +174,58 @@ Viewer::Viewer(const ViewerOptions& o) : m_opt(o), m_log(o.log_file) {
     if (const GLFWvidmode* mode = glfwGetVideoMode(glfwGetPrimaryMonitor()); mode && mode->refreshRate > 0)
         m_refresh_hz = mode->refreshRate;
 
-    m_renderer = std::make_unique<ProgressiveRenderer>(m_scene, o.threads);
-    m_renderer->set_on_publish([] { glfwPostEmptyEvent(); });
     m_saver = std::make_unique<SnapshotSaver>(o.snapshot_dir, [] { glfwPostEmptyEvent(); });
-    vec3 lo, hi;
-    m_scene->bounds(lo, hi);
-    m_camera = std::make_unique<CameraController>(m_scene->camera, lo, hi);
     m_state.settings = o.settings;
-    m_state.materials = m_scene->materials;
     m_state.snapshot_dir = o.snapshot_dir;
-    m_environment_lit = !Environment(*m_scene).is_black();
-    m_warnings = scene_warnings(*m_scene, m_state.materials, m_environment_lit);
-    for (const std::string& w : m_warnings) m_log.line("warning %s", w.c_str());
+    m_state.scene_path = m_scene->source;
+    use_scene(m_scene);
     m_log.line("start scene=%s triangles=%zu threads=%d gl=\"%s\" refresh_hz=%.0f", m_scene->source.c_str(),
                m_scene->triangle_count(), m_renderer->threads(),
                reinterpret_cast<const char*>(glGetString(GL_RENDERER)), m_refresh_hz);
+}
+
+void Viewer::use_scene(std::shared_ptr<const Scene> scene) {
+    auto renderer = std::make_unique<ProgressiveRenderer>(scene, m_opt.threads);  // builds the BVH; may throw
+    renderer->set_on_publish([] { glfwPostEmptyEvent(); });
+    renderer->set_paused(m_state.paused);
+    renderer->set_target(uint32_t(m_state.target_spp), double(m_state.target_seconds));
+    m_renderer = std::move(renderer);
+    m_scene = std::move(scene);
+    vec3 lo, hi;
+    m_scene->bounds(lo, hi);
+    m_camera = std::make_unique<CameraController>(m_scene->camera, lo, hi);
+    m_state.materials = m_scene->materials;
+    m_state.selected_material = -1;
+    m_environment_lit = !Environment(*m_scene).is_black();
+    m_warnings = scene_warnings(*m_scene, m_state.materials, m_environment_lit);
+    for (const std::string& w : m_warnings) m_log.line("warning %s", w.c_str());
+    // Generations restart at 1 with the new renderer: forget everything about the old one.
+    m_shown = Snapshot{};
+    m_incoming = Snapshot{};
+    m_history.clear();
+    m_history_generation = 0;
+    m_pending_frames.clear();
+    m_posted = 0;
+    m_deferred = false;
+    const std::string title = "pathview - " + std::filesystem::path(m_scene->source).filename().string();
+    glfwSetWindowTitle(m_window, title.c_str());
+}
+
+void Viewer::load_scene(double now) {
+    const std::string path = m_state.scene_path;
+    try {
+        use_scene(std::make_shared<const Scene>(pv::load_scene(path)));
+    } catch (const Error& e) {
+        m_state.scene_status = e.what();
+        m_state.scene_ok = false;
+        m_log.line("scene-error %s", e.what());
+        return;
+    }
+    m_state.scene_status = "loaded " + path;
+    m_state.scene_ok = true;
+    m_log.line("scene path=%s triangles=%zu", path.c_str(), m_scene->triangle_count());
+    m_level = kCoarsestLevel;
+    post("scene", false, now, now);
 }
 
 Viewer::~Viewer() {
@@ -284,6 +326,7 @@ int Viewer::run() {
         bool camera_moved = false;
         handle_scene_input(act, camera_moved, dt);
         if (act.save) save();
+        if (act.load_scene) load_scene(start);
 
         // 4. Restart the accumulation on a change (a new image size included).
         const int region_w = std::max(fb_w - panel_fb, 1);
