@@ -81,8 +81,9 @@ bool edit_material(Material& m) {
     float strength = max_component(m.emission);
     vec3 colour = strength > 0.f ? m.emission / strength : vec3(1.f);
     bool emission_changed = ImGui::ColorEdit3("emission colour", &colour.x, ImGuiColorEditFlags_Float);
-    emission_changed |= ImGui::DragFloat("emission strength", &strength, 0.05f, 0.f, 1e4f, "%.3f",
-                                         ImGuiSliderFlags_Logarithmic);
+    // About 1% of the value per pixel dragged, so dim and bright emitters both edit comfortably.
+    emission_changed |= ImGui::DragFloat("emission strength", &strength, std::max(0.01f, 0.01f * strength), 0.f, 1e4f,
+                                         "%.3f");
     if (emission_changed) {
         const float c = max_component(colour);
         m.emission = c > 0.f ? colour / c * std::max(strength, 0.f) : vec3(0.f);
