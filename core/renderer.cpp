@@ -2,6 +2,8 @@
 // lines in the hot loop).
 #include "core/renderer.h"
 
+#include "core/tsan.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -66,8 +68,11 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
     std::atomic<bool> cancelled{false};
 
+    const char fork_edge = 0, join_edge = 0;  // addresses for TSan's happens-before edges (core/tsan.h)
+    tsan_release(&fork_edge);
     m_pool->arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 1), [&](const tbb::blocked_range<int>& r) {
+            const TsanTaskScope tsan_scope(&fork_edge, &join_edge);
             enable_ftz_daz();
             for (int tile = r.begin(); tile != r.end(); ++tile) {
                 if (cancel && cancel->load(std::memory_order_relaxed)) {
@@ -91,6 +96,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
             }
         });
     });
+    tsan_acquire(&join_edge);
     if (cancelled.load()) return false;
 
     for (const TileTotals& tt : totals) {
