@@ -37,20 +37,28 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials)
         m_pmf[m_tris[k]] = static_cast<float>(power[k] / total);
     }
     m_cdf.back() = 1.f;
+    m_pdf_area.assign(scene.triangles.size(), 0.f);
+    for (size_t k = 0; k < m_tris.size(); ++k) {
+        const uint32_t tri = m_tris[k];
+        const uvec3 t = scene.triangles[tri];
+        const vec3 p0 = scene.positions[t.x], p1 = scene.positions[t.y], p2 = scene.positions[t.z];
+        const Material& m = materials[scene.material_ids[tri]];
+        m_pdf_area[tri] = m_pmf[tri] / m_area[k];
+        m_emitters.push_back({p0, p1, p2, glm::normalize(glm::cross(p1 - p0, p2 - p0)), m.emission, m_pdf_area[tri],
+                              m.two_sided_emission});
+    }
 }
 
 std::optional<LightSample> LightSet::sample(vec3 ref, float u_select, vec2 u) const {
     if (m_tris.empty()) return std::nullopt;
     const size_t k = std::min<size_t>(std::upper_bound(m_cdf.begin(), m_cdf.end(), u_select) - m_cdf.begin(),
                                       m_tris.size() - 1);
-    const uint32_t tri = m_tris[k];
-    const uvec3 t = m_scene->triangles[tri];
-    const vec3 p0 = m_scene->positions[t.x], p1 = m_scene->positions[t.y], p2 = m_scene->positions[t.z];
+    const Emitter& e = m_emitters[k];
     const vec2 b = square_to_triangle(u);
     LightSample ls;
-    ls.p = (1.f - b.x - b.y) * p0 + b.x * p1 + b.y * p2;
-    ls.p_error = barycentric_error(p0, p1, p2, 1.f - b.x - b.y, b.x, b.y);
-    ls.n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    ls.p = (1.f - b.x - b.y) * e.p0 + b.x * e.p1 + b.y * e.p2;
+    ls.p_error = barycentric_error(e.p0, e.p1, e.p2, 1.f - b.x - b.y, b.x, b.y);
+    ls.n = e.n;
     const vec3 d = ls.p - ref;
     const float d2 = glm::dot(d, d);
     if (!(d2 > 0.f)) return std::nullopt;
@@ -58,25 +66,20 @@ std::optional<LightSample> LightSet::sample(vec3 ref, float u_select, vec2 u) co
     ls.wi = d / ls.dist;
     const float cos_l = -glm::dot(ls.n, ls.wi);
     if (cos_l == 0.f) return std::nullopt;
-    const Material& m = (*m_materials)[m_scene->material_ids[tri]];
-    ls.le = (cos_l > 0.f || m.two_sided_emission) ? m.emission : vec3(0.f);
-    const float pmf = m_pmf[tri];
-    ls.pdf = pmf / m_area[k] * d2 / std::fabs(cos_l);
+    ls.le = (cos_l > 0.f || e.two_sided) ? e.emission : vec3(0.f);
+    ls.pdf = e.pdf_area * d2 / std::fabs(cos_l);
     if (!(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return std::nullopt;
     return ls;
 }
 
 float LightSet::pdf(uint32_t tri, vec3 ref, vec3 p, vec3 n) const {
-    const float pm = pmf(tri);
-    if (pm == 0.f) return 0.f;
-    const uvec3 t = m_scene->triangles[tri];
-    const vec3 p0 = m_scene->positions[t.x];
-    const float area = 0.5f * glm::length(glm::cross(m_scene->positions[t.y] - p0, m_scene->positions[t.z] - p0));
+    const float pdf_area = tri < m_pdf_area.size() ? m_pdf_area[tri] : 0.f;
+    if (pdf_area == 0.f) return 0.f;
     const vec3 d = p - ref;
     const float d2 = glm::dot(d, d);
     const float cos_l = std::fabs(glm::dot(n, d)) / std::sqrt(d2);
     if (!(cos_l > 0.f)) return 0.f;
-    return pm / area * d2 / cos_l;
+    return pdf_area * d2 / cos_l;
 }
 
 }  // namespace pv

@@ -44,6 +44,15 @@ private:
     std::vector<float> m_cdf;       // cumulative, normalised; size m_tris.size()
     std::vector<float> m_area;      // per emissive triangle
     std::vector<float> m_pmf;       // per scene triangle (empty when there are no lights)
+    // Gathered once so that a sample or pdf chases no indices and normalises nothing: per emissive triangle its
+    // vertices, unit normal and emission; per scene triangle pmf / area (0 for non-lights).
+    struct Emitter {
+        vec3 p0, p1, p2, n, emission;
+        float pdf_area;  // pmf / area
+        bool two_sided;
+    };
+    std::vector<Emitter> m_emitters;
+    std::vector<float> m_pdf_area;
     float m_total_power = 0.f;
 };
 
