@@ -39,7 +39,7 @@ struct BenchOptions {
     bool rays = false, rays_only = false, scaling = false;
     double rays_seconds = 2.0;
     int rays_rounds = 3;
-    std::string clock = "wall";   // or "cpu": process CPU seconds / threads
+    std::string clock = "cpu";    // process CPU seconds / threads, or "wall"
     bool quiet = false;
 };
 
@@ -416,8 +416,9 @@ void add_bench_command(CLI::App& app) {
                                                      "alternate; the median fraction is reported)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
-    cmd->add_option("--clock", o->clock, "Time by the wall clock, or by process CPU seconds / threads (robust when "
-                                         "other processes share the cores)")
+    cmd->add_option("--clock", o->clock, "cpu: time is process CPU seconds / threads (equals the wall clock on an idle "
+                                         "machine; other processes sharing the cores do not inflate it); wall: the "
+                                         "wall clock")
         ->check(CLI::IsMember({"wall", "cpu"}))
         ->capture_default_str();
     cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
