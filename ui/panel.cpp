@@ -1,5 +1,5 @@
 // ui/panel.cpp: the panel's sections, top to bottom: warnings, progress, convergence, estimator, display,
-// camera, materials, snapshots.
+// light, camera (with bookmarks), materials, snapshots, scene.
 #include "panel.h"
 
 #include <imgui.h>
@@ -125,9 +125,15 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
     if (ImGui::CollapsingHeader("Estimator", ImGuiTreeNodeFlags_DefaultOpen)) estimator(state, act);
     if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) display(state);
     if (ImGui::CollapsingHeader("Snapshot", ImGuiTreeNodeFlags_DefaultOpen)) snapshots(state, act);
+    const bool light_open = ImGui::CollapsingHeader("Light");
+    log_widget("light_header");
+    if (light_open) lighting(state, act);
     const bool camera_open = ImGui::CollapsingHeader("Camera");
     log_widget("camera_header");
-    if (camera_open) camera(state, camera_ctl, act);
+    if (camera_open) {
+        camera(state, camera_ctl, act);
+        bookmarks(state, act);
+    }
     const bool materials_open = ImGui::CollapsingHeader("Materials");
     log_widget("materials_header");
     if (materials_open) materials(state, act);
@@ -208,6 +214,65 @@ void Panel::estimator(ViewState& state, PanelActions& act) {
         s.seed = static_cast<uint32_t>(std::max(seed, 0));
         act.settings_changed = true;
     }
+    int sampler = static_cast<int>(s.sampler);
+    if (ImGui::Combo("sampler", &sampler, "independent\0Sobol (Owen-scrambled)\0")) {
+        s.sampler = static_cast<SamplerKind>(sampler);
+        act.settings_changed = true;
+    }
+}
+
+void Panel::lighting(ViewState& state, PanelActions& act) {
+    EnvironmentSettings& e = state.environment;
+    if (state.has_environment_map) {
+        act.environment_changed |= ImGui::SliderFloat("map rotation", &e.rotation_deg, -180.f, 180.f, "%.0f deg");
+    } else {
+        act.environment_changed |= ImGui::ColorEdit3("sky colour", &e.background.x, ImGuiColorEditFlags_Float |
+                                                                                       ImGuiColorEditFlags_HDR);
+    }
+    act.environment_changed |=
+        ImGui::DragFloat("sky strength", &e.strength, 0.01f * std::max(e.strength, 0.1f), 0.f, 1e6f, "%.3g");
+    // The sun: elevation and azimuth about +y, its irradiance and angular radius.
+    bool sun_on = !is_black(e.sun_irradiance);
+    if (ImGui::Checkbox("sun", &sun_on)) {
+        e.sun_irradiance = vec3(sun_on ? 5.f : 0.f);
+        act.environment_changed = true;
+    }
+    if (sun_on) {
+        const vec3 d = glm::normalize(e.sun_direction);
+        float elevation = glm::degrees(std::asin(glm::clamp(d.y, -1.f, 1.f)));
+        float azimuth = glm::degrees(std::atan2(d.z, d.x));
+        bool moved = ImGui::SliderFloat("sun elevation", &elevation, -10.f, 90.f, "%.1f deg");
+        moved |= ImGui::SliderFloat("sun azimuth", &azimuth, -180.f, 180.f, "%.0f deg");
+        if (moved) {
+            const float el = glm::radians(elevation), az = glm::radians(azimuth);
+            e.sun_direction = vec3(std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az));
+            act.environment_changed = true;
+        }
+        float irradiance = max_component(e.sun_irradiance);
+        if (ImGui::DragFloat("sun irradiance", &irradiance, 0.01f * std::max(irradiance, 0.1f), 0.f, 1e6f, "%.3g")) {
+            e.sun_irradiance = vec3(std::max(irradiance, 0.f));
+            act.environment_changed = true;
+        }
+        act.environment_changed |=
+            ImGui::SliderFloat("sun radius", &e.sun_angular_radius_deg, 0.05f, 10.f, "%.2f deg", ImGuiSliderFlags_Logarithmic);
+    }
+}
+
+void Panel::bookmarks(ViewState& state, PanelActions& act) {
+    ImGui::Separator();
+    ImGui::TextDisabled("bookmarks (saved with the scene file)");
+    for (size_t i = 0; i < state.bookmarks.size(); ++i) {
+        ImGui::PushID(int(i));
+        if (ImGui::Button("Go")) act.goto_bookmark = int(i);
+        ImGui::SameLine();
+        ImGui::TextUnformatted(state.bookmarks[i].name.c_str());
+        ImGui::PopID();
+    }
+    ImGui::SetNextItemWidth(160.f);
+    ImGui::InputText("##bookmark", m_bookmark_name, sizeof m_bookmark_name);
+    ImGui::SameLine();
+    if (ImGui::Button("Save view") && m_bookmark_name[0]) act.save_bookmark = m_bookmark_name;
+    if (!state.bookmark_status.empty()) status_text(state.bookmark_status, state.bookmark_ok);
 }
 
 void Panel::display(ViewState& state) {
@@ -280,7 +345,10 @@ void Panel::scene(ViewState& state, PanelActions& act) {
     const bool entered = ImGui::InputText("##scene", m_scene_path, sizeof m_scene_path,
                                           ImGuiInputTextFlags_EnterReturnsTrue);
     log_widget("scene_path");
-    if (ImGui::Button("Load (.json or .obj)") || entered) {
+    ImGui::BeginDisabled(state.scene_loading);
+    const bool clicked = ImGui::Button(state.scene_loading ? "Loading..." : "Load (.json or .obj)");
+    ImGui::EndDisabled();
+    if ((clicked || entered) && !state.scene_loading) {
         state.scene_path = m_scene_path;
         act.load_scene = true;
     }

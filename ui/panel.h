@@ -4,6 +4,7 @@
 #pragma once
 
 #include "camera_controller.h"
+#include "core/environment.h"
 #include "convergence.h"
 #include "display.h"
 #include "view_log.h"
@@ -30,6 +31,12 @@ struct ViewState {
     std::string scene_path;      // the scene to load (Scene section)
     std::string scene_status;
     bool scene_ok = true;
+    bool scene_loading = false;  // a load runs in the background
+    EnvironmentSettings environment;    // sky, map rotation/strength, sun (Light section)
+    bool has_environment_map = false;
+    std::vector<Scene::Bookmark> bookmarks;  // saved with the scene file (Camera section)
+    std::string bookmark_status;
+    bool bookmark_ok = true;
 };
 
 // Read-only facts the panel shows.
@@ -56,6 +63,9 @@ struct PanelActions {
     bool frame_all = false;
     bool reset_camera = false;
     bool load_scene = false;
+    bool environment_changed = false;
+    int goto_bookmark = -1;          // index into ViewState::bookmarks
+    std::string save_bookmark;       // non-empty: save the current camera under this name
 };
 
 class Panel {
@@ -73,12 +83,15 @@ private:
     void materials(ViewState& state, PanelActions& act);
     void snapshots(ViewState& state, PanelActions& act);
     void scene(ViewState& state, PanelActions& act);
+    void lighting(ViewState& state, PanelActions& act);
+    void bookmarks(ViewState& state, PanelActions& act);
     // Logs the centre of the last item, once per position change (the GUI test clicks it).
     void log_widget(const char* name);
 
     ViewLog& m_log;
     std::map<std::string, std::pair<int, int>> m_logged;
     char m_scene_path[1024] = {};  // the Scene section's text field
+    char m_bookmark_name[128] = "view 1";
 };
 
 }  // namespace pv::ui

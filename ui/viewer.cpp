@@ -20,9 +20,11 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <chrono>
 #include <ctime>
 #include <deque>
 #include <filesystem>
+#include <future>
 
 namespace pv::ui {
 namespace {
@@ -105,11 +107,17 @@ private:
     void click(vec2 pos, double time, bool& camera_moved);
     std::optional<PickResult> pick(vec2 window_pos) const;
     void update_request(const PanelActions& act, bool camera_moved, bool resized, double now);
-    void post(const std::string& reason, bool with_materials, double now, double since);
-    // Renders `scene` from now on: a new ProgressiveRenderer (the old one is joined), its camera and materials.
-    void use_scene(std::shared_ptr<const Scene> scene);
-    // Loads the scene the panel names; on failure the panel shows the error and the current scene stays.
+    void post(const std::string& reason, bool with_materials, double now, double since, bool with_environment = false);
+    // Renders `scene` from now on with `renderer` (built for it; the old one is joined): its camera, materials,
+    // environment and bookmarks.
+    void use_scene(std::shared_ptr<const Scene> scene, std::unique_ptr<ProgressiveRenderer> renderer);
+    // Starts loading the scene the panel names in the background (parse and BVH build off the UI thread, so the
+    // window stays responsive and the current scene keeps rendering).
     void load_scene(double now);
+    // Adopts a finished background load; on failure the panel shows the error and the current scene stays.
+    void poll_loading(double now);
+    // Jumps to a bookmark or saves the current camera as one (in the scene file).
+    void handle_bookmarks(PanelActions& act);
     void poll_saves();
     void save();
     void log_stats(double now);
@@ -125,6 +133,11 @@ private:
     std::unique_ptr<ProgressiveRenderer> m_renderer;
     std::unique_ptr<SnapshotSaver> m_saver;
     std::unique_ptr<CameraController> m_camera;
+    struct LoadedScene {
+        std::shared_ptr<const Scene> scene;
+        std::unique_ptr<ProgressiveRenderer> renderer;
+    };
+    std::future<LoadedScene> m_loading;
     Panel m_panel{m_log};
     ViewState m_state;
     std::vector<std::string> m_warnings;
@@ -178,14 +191,13 @@ Viewer::Viewer(const ViewerOptions& o) : m_opt(o), m_log(o.log_file) {
     m_state.settings = o.settings;
     m_state.snapshot_dir = o.snapshot_dir;
     m_state.scene_path = m_scene->source;
-    use_scene(m_scene);
+    use_scene(m_scene, std::make_unique<ProgressiveRenderer>(m_scene, o.threads));
     m_log.line("start scene=%s triangles=%zu threads=%d gl=\"%s\" refresh_hz=%.0f", m_scene->source.c_str(),
                m_scene->triangle_count(), m_renderer->threads(),
                reinterpret_cast<const char*>(glGetString(GL_RENDERER)), m_refresh_hz);
 }
 
-void Viewer::use_scene(std::shared_ptr<const Scene> scene) {
-    auto renderer = std::make_unique<ProgressiveRenderer>(scene, m_opt.threads);  // builds the BVH; may throw
+void Viewer::use_scene(std::shared_ptr<const Scene> scene, std::unique_ptr<ProgressiveRenderer> renderer) {
     renderer->set_on_publish([] { glfwPostEmptyEvent(); });
     renderer->set_paused(m_state.paused);
     renderer->set_target(uint32_t(m_state.target_spp), double(m_state.target_seconds));
@@ -197,6 +209,10 @@ void Viewer::use_scene(std::shared_ptr<const Scene> scene) {
     m_state.materials = m_scene->materials;
     m_state.selected_material = -1;
     m_environment_lit = !Environment(*m_scene).is_black();
+    m_state.environment = environment_settings(*m_scene);
+    m_state.has_environment_map = m_scene->environment_map != kNoIndex;
+    m_state.bookmarks = m_scene->bookmarks;
+    m_state.bookmark_status.clear();
     m_warnings = scene_warnings(*m_scene, m_state.materials, m_environment_lit);
     for (const std::string& w : m_warnings) m_log.line("warning %s", w.c_str());
     // Generations restart at 1 with the new renderer: forget everything about the old one.
@@ -211,11 +227,33 @@ void Viewer::use_scene(std::shared_ptr<const Scene> scene) {
     glfwSetWindowTitle(m_window, title.c_str());
 }
 
-void Viewer::load_scene(double now) {
+void Viewer::load_scene(double) {
+    if (m_loading.valid()) return;
+    const std::string path = m_state.scene_path;
+    const int threads = m_opt.threads;
+    m_state.scene_loading = true;
+    m_state.scene_status = "loading " + path + " ...";
+    m_state.scene_ok = true;
+    m_log.line("scene-loading path=%s", path.c_str());
+    m_loading = std::async(std::launch::async, [path, threads] {
+        struct Wake {  // wakes the UI loop when the load ends, also by an exception
+            ~Wake() { glfwPostEmptyEvent(); }
+        } wake;
+        LoadedScene loaded;
+        loaded.scene = std::make_shared<const Scene>(pv::load_scene(path));
+        loaded.renderer = std::make_unique<ProgressiveRenderer>(loaded.scene, threads);  // builds the BVH
+        return loaded;
+    });
+}
+
+void Viewer::poll_loading(double now) {
+    if (!m_loading.valid() || m_loading.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+    m_state.scene_loading = false;
     const std::string path = m_state.scene_path;
     try {
-        use_scene(std::make_shared<const Scene>(pv::load_scene(path)));
-    } catch (const Error& e) {
+        LoadedScene loaded = m_loading.get();
+        use_scene(std::move(loaded.scene), std::move(loaded.renderer));
+    } catch (const std::exception& e) {
         m_state.scene_status = e.what();
         m_state.scene_ok = false;
         m_log.line("scene-error %s", e.what());
@@ -229,6 +267,8 @@ void Viewer::load_scene(double now) {
 }
 
 Viewer::~Viewer() {
+    // A background load ends first (it may still post an event to the window).
+    if (m_loading.valid()) m_loading.wait();
     // Reverse order of set-up: writes and render threads end before the GL context and the window go.
     m_saver.reset();
     m_renderer.reset();
@@ -327,6 +367,8 @@ int Viewer::run() {
         handle_scene_input(act, camera_moved, dt);
         if (act.save) save();
         if (act.load_scene) load_scene(start);
+        poll_loading(start);
+        handle_bookmarks(act);
 
         // 4. Restart the accumulation on a change (a new image size included).
         const int region_w = std::max(fb_w - panel_fb, 1);
@@ -505,6 +547,7 @@ void Viewer::update_request(const PanelActions& act, bool camera_moved, bool res
     if (camera_moved || act.camera_changed || act.frame_all || act.reset_camera) add("camera");
     if (act.settings_changed) add("settings");
     if (act.materials_changed) add("material");
+    if (act.environment_changed) add("environment");
     if (resized) add("resize");
     if (act.restart) add("restart");
     const double since = m_input.first_event >= 0.0 ? std::min(now, m_input.first_event) : now;
@@ -518,9 +561,13 @@ void Viewer::update_request(const PanelActions& act, bool camera_moved, bool res
     }
     if (reason.empty() && m_deferred && !waiting) reason = "camera";
     if (!reason.empty()) {
-        if (act.materials_changed) m_warnings = scene_warnings(*m_scene, m_state.materials, m_environment_lit);
+        if (act.environment_changed)
+            m_environment_lit = !Environment(*m_scene, m_state.environment).is_black();
+        if (act.materials_changed || act.environment_changed)
+            m_warnings = scene_warnings(*m_scene, m_state.materials, m_environment_lit);
         m_level = kCoarsestLevel;
-        post(reason, act.materials_changed, now, m_deferred ? std::min(m_deferred_since, since) : since);
+        post(reason, act.materials_changed, now, m_deferred ? std::min(m_deferred_since, since) : since,
+             act.environment_changed);
         m_deferred = false;
     } else if (m_level > 1 && now - m_last_change >= kRestSeconds && m_shown.generation == m_posted &&
                m_shown.spp >= 1) {
@@ -529,8 +576,9 @@ void Viewer::update_request(const PanelActions& act, bool camera_moved, bool res
     }
 }
 
-void Viewer::post(const std::string& reason, bool with_materials, double now, double since) {
+void Viewer::post(const std::string& reason, bool with_materials, double now, double since, bool with_environment) {
     RenderRequest req;
+    if (with_environment) req.environment = m_state.environment;
     req.camera = m_camera->desc();
     req.settings = m_state.settings;
     req.width = std::max(1, m_full_w / m_level);
@@ -546,6 +594,29 @@ void Viewer::post(const std::string& reason, bool with_materials, double now, do
     m_pending_frames.push_back({m_posted, since, reason});  // latency from the input event, not from this frame
     m_log.line("restart gen=%llu reason=%s size=%dx%d level=%d %s", (unsigned long long)m_posted, reason.c_str(),
                req.width, req.height, m_level, req.settings.describe().c_str());
+}
+
+void Viewer::handle_bookmarks(PanelActions& act) {
+    if (act.goto_bookmark >= 0 && size_t(act.goto_bookmark) < m_state.bookmarks.size()) {
+        m_camera->desc() = m_state.bookmarks[size_t(act.goto_bookmark)].camera;
+        act.camera_changed = true;
+        m_log.line("bookmark go name=%s", m_state.bookmarks[size_t(act.goto_bookmark)].name.c_str());
+    }
+    if (!act.save_bookmark.empty()) {
+        try {
+            const std::string file = pv::save_bookmark(m_scene->source, act.save_bookmark, m_camera->desc());
+            bool replaced = false;
+            for (Scene::Bookmark& b : m_state.bookmarks)
+                if (b.name == act.save_bookmark) b.camera = m_camera->desc(), replaced = true;
+            if (!replaced) m_state.bookmarks.push_back({act.save_bookmark, m_camera->desc()});
+            m_state.bookmark_status = "saved '" + act.save_bookmark + "' in " + file;
+            m_state.bookmark_ok = true;
+            m_log.line("bookmark saved name=%s file=%s", act.save_bookmark.c_str(), file.c_str());
+        } catch (const Error& e) {
+            m_state.bookmark_status = e.what();
+            m_state.bookmark_ok = false;
+        }
+    }
 }
 
 void Viewer::save() {
