@@ -1,7 +1,7 @@
 # pathview: the two set-up commands of README.md.
 #   make run   installs what is missing, builds Release, opens the viewer on the built-in Cornell box
 #              (with no display: says so and renders the Cornell box headless).
-#   make test  installs what is missing, builds, runs every test (ctest), then the sanitizer suites.
+#   make test  installs what is missing, builds, runs every test (ctest), then the sanitizer suites and the fuzzer.
 SHELL := /bin/bash
 BUILD ?= build
 JOBS ?= $(shell nproc)
@@ -15,7 +15,7 @@ PACKAGES := build-essential cmake pkg-config ccache libglfw3-dev libimgui-dev li
 
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: deps build run test test-release test-sanitize bench clean
+.PHONY: deps build run test test-release test-sanitize build-asan-fuzz test-asan test-tsan test-fuzz bench clean
 
 deps:
 	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
@@ -40,16 +40,40 @@ run: build
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-test: test-release test-sanitize
+test: test-release test-sanitize test-fuzz
 
-# The suite under ASan+UBSan, and the renderer's threading tests under TSan (see tests/CMakeLists.txt labels).
-test-sanitize: deps
-	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPATHVIEW_SANITIZE=address,undefined -DPATHVIEW_BUILD_UI=OFF > build-asan.configure.log 2>&1 || { cat build-asan.configure.log; exit 1; }
-	@cmake --build build-asan -j $(JOBS) --target pathview_tests
-	cd build-asan && ctest --output-on-failure -j $(JOBS) -L sanitize
-	@cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPATHVIEW_SANITIZE=thread -DPATHVIEW_BUILD_UI=OFF > build-tsan.configure.log 2>&1 || { cat build-tsan.configure.log; exit 1; }
+# Sanitizer builds: no viewer, no micro-benchmarks; RelWithDebInfo for readable reports. The ASan+UBSan build uses
+# clang with libFuzzer instrumentation so that the suite and the fuzzer share one build (build-asan-fuzz).
+SAN_FLAGS := -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPATHVIEW_BUILD_UI=OFF -DPATHVIEW_BUILD_MICROBENCH=OFF
+FUZZ_SECONDS ?= 60
+
+# The suite under ASan+UBSan (suites whose name ends in Slow skipped), then the renderer's threading suites
+# (names starting with Threading or Progressive) under TSan. TBB and Embree are not built with TSan: core/tsan.h
+# annotates pathview's fork/join edges and tests/tsan.supp suppresses reports inside those libraries only.
+test-sanitize: test-asan test-tsan
+
+build-asan-fuzz: deps
+	@cmake -S . -B build-asan-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ $(SAN_FLAGS) \
+	  -DPATHVIEW_SANITIZE=address,undefined -DPATHVIEW_BUILD_FUZZER=ON > build-asan-fuzz.configure.log 2>&1 || \
+	  { cat build-asan-fuzz.configure.log; exit 1; }
+	@cmake --build build-asan-fuzz -j $(JOBS) --target pathview_tests pathview fuzz_obj
+
+test-asan: build-asan-fuzz
+	cd build-asan-fuzz && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --output-on-failure -j $(JOBS) -E 'Slow[./]'
+
+test-tsan: deps
+	@cmake -S . -B build-tsan $(SAN_FLAGS) -DPATHVIEW_SANITIZE=thread > build-tsan.configure.log 2>&1 || { cat build-tsan.configure.log; exit 1; }
 	@cmake --build build-tsan -j $(JOBS) --target pathview_tests
-	cd build-tsan && ctest --output-on-failure -j $(JOBS) -L threading
+	cd build-tsan && TSAN_OPTIONS="suppressions=$(CURDIR)/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
+	  ctest --output-on-failure -j $(JOBS) -R '(^|/)(Threading|Progressive)'
+
+# libFuzzer over the OBJ import path (tests/fuzz) under ASan+UBSan, for FUZZ_SECONDS from the seed corpus
+# tests/fuzz/corpus; new inputs go to build-asan-fuzz/corpus (the repository's corpus is only read).
+test-fuzz: build-asan-fuzz
+	@rm -rf build-asan-fuzz/corpus && mkdir -p build-asan-fuzz/corpus
+	./build-asan-fuzz/tests/fuzz/fuzz_obj -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
+	  -print_final_stats=1 build-asan-fuzz/corpus tests/fuzz/corpus
 
 bench: build
 	./$(BUILD)/pathview bench
@@ -59,4 +83,4 @@ benchmarks: build
 	scripts/benchmarks.sh $(BUILD)
 
 clean:
-	rm -rf $(BUILD) build-asan build-tsan *.configure.log
+	rm -rf $(BUILD) build-asan build-asan-fuzz build-tsan *.configure.log

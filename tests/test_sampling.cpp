@@ -206,11 +206,12 @@ TEST(DielectricSampling, ReflectFrequencyMatchesFresnelAndSnell) {
                           {1.5f, -0.8f}, {1.5f, -0.75f}, {1.5f, -0.5f}, {1.33f, 0.3f}, {2.4f, -0.9f}};
     const double k = test::sidak_k(std::size(cases));
     const int n = 200000;
-    for (const Case& c : cases) {
+    for (size_t ci = 0; ci < std::size(cases); ++ci) {
+        const Case& c = cases[ci];
         const Dielectric d{c.eta};
         const vec3 wo = dir_from_cos(c.cos_wo);
         const double r = fresnel_dielectric(c.cos_wo, c.eta);
-        Pcg32 g(uint64_t(c.cos_wo * 1e6f) + 7, 11);
+        Pcg32 g(ci + 7, 11);
         int reflected = 0, produced = 0;
         for (int i = 0; i < n; ++i) {
             const auto s = sample(Bsdf(d), wo, g.next_float(), vec2(g.next_float(), g.next_float()));
