@@ -101,7 +101,7 @@ void Tracer::for_each_sample(const CameraDesc& camera_desc, const RenderSettings
                              bool pixel_centre) const {
     const Camera camera(camera_desc, width, height);
     const SceneView v = view();
-    Sampler sampler(settings.seed);
+    Sampler sampler(settings.seed, settings.sampler);
     PathCounters counters;
     for (int index = 0; index < spp; ++index)
         for (int y = 0; y < height; ++y)
