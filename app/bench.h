@@ -25,6 +25,7 @@ struct BenchSample {
     uint32_t spp = 0;
     double seconds = 0.0;
     ErrorMetrics error;
+    double rel_mse_trimmed = 0.0;  // relMSE without the largest 0.1% of per-value errors (fireflies)
     double rays = 0.0, shadow_rays = 0.0, paths = 0.0, vertices = 0.0;
 };
 
@@ -32,7 +33,7 @@ struct BenchSample {
 struct BenchPoint {
     uint32_t spp = 0;
     int seeds = 0;
-    Spread seconds, rel_mse, rmse, mape;
+    Spread seconds, rel_mse, rmse, mape, rel_mse_trimmed;
     double mrays_per_s = 0.0;       // closest-hit + shadow rays per second, millions
     double mean_path_length = 0.0;  // surface interactions per path
     double rays_per_sample = 0.0;   // closest-hit + shadow rays per path

@@ -88,21 +88,22 @@ std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSett
 }
 
 void print_points_table(const std::vector<BenchSeries>& series) {
-    std::printf("| config | spp | seconds | relMSE (mean) | relMSE min..max over seeds | RMSE | MAPE | Mrays/s | "
-                "path length | rays/sample | efficiency 1/(relMSE s) |\n");
-    std::printf("|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|\n");
+    std::printf("| config | spp | seconds | relMSE (mean) | relMSE min..max over seeds | trimmed relMSE | RMSE | MAPE | "
+                "Mrays/s | path length | rays/sample | efficiency 1/(relMSE s) |\n");
+    std::printf("|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const BenchSeries& s : series)
         for (const BenchPoint& p : s.points)
-            std::printf("| %s | %u | %.3f | %.4g | %.3g..%.3g | %.4g | %.4g | %.2f | %.2f | %.2f | %.4g |\n",
+            std::printf("| %s | %u | %.3f | %.4g | %.3g..%.3g | %.4g | %.4g | %.4g | %.2f | %.2f | %.2f | %.4g |\n",
                         s.config.name.c_str(), p.spp, p.seconds.mean, p.rel_mse.mean, p.rel_mse.min, p.rel_mse.max,
-                        p.rmse.mean, p.mape.mean, p.mrays_per_s, p.mean_path_length, p.rays_per_sample,
+                        p.rel_mse_trimmed.mean, p.rmse.mean, p.mape.mean, p.mrays_per_s, p.mean_path_length, p.rays_per_sample,
                         p.efficiency());
 }
 
 void write_csv(const std::string& path, const std::string& scene, const std::vector<BenchSeries>& series) {
     std::ostringstream o;
     o << "scene,config,light_sampling,mis,rr,sampler,spp,seeds,seconds_mean,seconds_std,relmse_mean,relmse_std,"
-         "relmse_min,relmse_max,rmse_mean,mape_mean,mrays_per_s,mean_path_length,rays_per_sample,efficiency\n";
+         "relmse_min,relmse_max,relmse_trimmed_mean,rmse_mean,mape_mean,mrays_per_s,mean_path_length,rays_per_sample,"
+         "efficiency\n";
     for (const BenchSeries& s : series)
         for (const BenchPoint& p : s.points) {
             const RenderSettings& st = s.config.settings;
@@ -110,7 +111,8 @@ void write_csv(const std::string& path, const std::string& scene, const std::vec
               << st.russian_roulette << ',' << sampler_name(st.sampler) << ',' << p.spp << ',' << p.seeds << ','
               << fmt("%.6g", p.seconds.mean) << ',' << fmt("%.3g", p.seconds.stddev) << ','
               << fmt("%.6g", p.rel_mse.mean) << ',' << fmt("%.4g", p.rel_mse.stddev) << ','
-              << fmt("%.6g", p.rel_mse.min) << ',' << fmt("%.6g", p.rel_mse.max) << ',' << fmt("%.6g", p.rmse.mean)
+              << fmt("%.6g", p.rel_mse.min) << ',' << fmt("%.6g", p.rel_mse.max) << ','
+              << fmt("%.6g", p.rel_mse_trimmed.mean) << ',' << fmt("%.6g", p.rmse.mean)
               << ',' << fmt("%.6g", p.mape.mean) << ',' << fmt("%.4g", p.mrays_per_s) << ','
               << fmt("%.4g", p.mean_path_length) << ',' << fmt("%.4g", p.rays_per_sample) << ','
               << fmt("%.6g", p.efficiency()) << '\n';

@@ -144,13 +144,14 @@ BenchPoint summarise(const std::vector<BenchSample>& samples) {
     BenchPoint p;
     p.spp = samples.front().spp;
     p.seeds = static_cast<int>(samples.size());
-    std::vector<double> t, rel, rmse, mape;
+    std::vector<double> t, rel, rmse, mape, trimmed;
     double rays = 0, paths = 0, vertices = 0, secs = 0;
     for (const BenchSample& s : samples) {
         t.push_back(s.seconds);
         rel.push_back(s.error.rel_mse);
         rmse.push_back(s.error.rmse);
         mape.push_back(s.error.mape);
+        trimmed.push_back(s.rel_mse_trimmed);
         rays += s.rays + s.shadow_rays;
         paths += s.paths;
         vertices += s.vertices;
@@ -160,6 +161,7 @@ BenchPoint summarise(const std::vector<BenchSample>& samples) {
     p.rel_mse = spread_of(rel);
     p.rmse = spread_of(rmse);
     p.mape = spread_of(mape);
+    p.rel_mse_trimmed = spread_of(trimmed);
     p.mrays_per_s = secs > 0 ? rays / secs * 1e-6 : 0.0;
     p.mean_path_length = paths > 0 ? vertices / paths : 0.0;
     p.rays_per_sample = paths > 0 ? rays / paths : 0.0;
@@ -184,7 +186,9 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
             BenchSample smp;
             smp.spp = st.spp;
             smp.seconds = seconds;
-            smp.error = compare_images(renderer.film().mean(), reference);
+            const Image mean = renderer.film().mean();
+            smp.error = compare_images(mean, reference);
+            smp.rel_mse_trimmed = compare_images(mean, reference, kMetricEps, 0.001).rel_mse;
             smp.rays = double(st.rays);
             smp.shadow_rays = double(st.shadow_rays);
             smp.paths = double(st.paths);
@@ -227,22 +231,24 @@ void print_summary(const std::vector<BenchSeries>& all, const Reference& ref) {
     const BenchSeries* baseline = &all.front();
     for (const BenchSeries& s : all)
         if (s.config.name == "mis/rr/ind") baseline = &s;
-    auto at_t = [&](const BenchSeries& s) {
+    auto at_t = [&](const BenchSeries& s, bool trimmed) {
         std::vector<double> x, y;
-        for (const BenchPoint& p : s.points) x.push_back(p.seconds.mean), y.push_back(p.rel_mse.mean);
-        return interpolate_loglog(x, y, t_common).value_or(s.points.back().rel_mse.mean);
+        for (const BenchPoint& p : s.points)
+            x.push_back(p.seconds.mean), y.push_back(trimmed ? p.rel_mse_trimmed.mean : p.rel_mse.mean);
+        return interpolate_loglog(x, y, t_common).value_or(y.back());
     };
-    const double base_err = at_t(*baseline);
+    const double base_err = at_t(*baseline, false), base_trim = at_t(*baseline, true);
     std::printf("\n### Equal time: relMSE at %.3f s (interpolated log-log between power-of-two spp points)\n\n",
                 t_common);
-    std::printf("| config | relMSE at %.3g s | relative to %s | spp reached in budget | seconds | slope vs spp | slope vs time | Mrays/s | rays/sample | path length |\n",
+    std::printf("| config | relMSE at %.3g s | relative to %s | trimmed relMSE (top 0.1%% dropped) | relative | spp "
+                "reached in budget | seconds | slope vs spp | slope vs time | Mrays/s | rays/sample | path length |\n",
                 t_common, baseline->config.name.c_str());
-    std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const BenchSeries& s : all) {
         const BenchPoint& last = s.points.back();
-        const double e = at_t(s);
-        std::printf("| %s | %.4g | %.3f | %u | %.3f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", s.config.name.c_str(), e,
-                    e / base_err, last.spp, last.seconds.mean, s.slope_spp.slope, s.slope_time.slope,
+        const double e = at_t(s, false), et = at_t(s, true);
+        std::printf("| %s | %.4g | %.3f | %.4g | %.3f | %u | %.3f | %.2f | %.2f | %.2f | %.2f | %.2f |\n",
+                    s.config.name.c_str(), e, e / base_err, et, et / base_trim, last.spp, last.seconds.mean, s.slope_spp.slope, s.slope_time.slope,
                     last.mrays_per_s, last.rays_per_sample, last.mean_path_length);
     }
     // The reference check: its own error must be far below the smallest error measured against it.

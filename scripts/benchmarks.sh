@@ -3,7 +3,7 @@
 #   scripts/benchmarks.sh [BUILD_DIR]       (or: make benchmarks)
 # Takes about 10 minutes on 2 cores. Times are process CPU seconds / threads (--clock cpu) unless a section says
 # wall clock, because the machines this runs on are shared; comparisons are ratios within one run.
-set -euo pipefail
+set -eu
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
 PV="$BUILD/pathview"
@@ -54,7 +54,8 @@ Load average when the run started: $(cut -d' ' -f1-3 /proc/loadavg) (the cores a
 every comparison below is a ratio between configurations measured in the same run; absolute rates move by tens of
 percent between runs).
 
-How to read it: relMSE = mean over pixels and channels of (x - ref)^2 / (ref^2 + 0.01), no trimming; RMSE and
+How to read it: relMSE = mean over pixels and channels of (x - ref)^2 / (ref^2 + 0.01), no trimming (the "trimmed"
+columns drop the largest 0.1% of per-value errors, i.e. fireflies); RMSE and
 MAPE (|x - ref| / (|ref| + 0.01)) likewise; efficiency = 1 / (relMSE x seconds); "seconds" are rendering seconds
 measured as process CPU time / threads (\`--clock cpu\`), which other processes on the machine do not inflate.
 Each configuration is named estimator/roulette/sampler: bsdf = BSDF sampling only, nee = light sampling without
