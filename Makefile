@@ -14,6 +14,9 @@ PACKAGES := build-essential cmake pkg-config ccache libglfw3-dev libimgui-dev li
   clang libclang-rt-14-dev
 
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release
+# ccache: paths below the project are hashed relative to it, so a fresh clone (CI) reuses earlier compilations.
+export CCACHE_BASEDIR := $(CURDIR)
+export CCACHE_NOHASHDIR := 1
 
 .PHONY: deps build run test test-release test-sanitize build-asan-fuzz test-asan test-tsan test-fuzz bench clean
 
