@@ -92,17 +92,17 @@ rays large-mesh-rays large-mesh --width 256 --height 256 --clock cpu --rays-roun
 echo -e "\n## 5. Error-vs-spp slopes: independent vs Sobol" >> "$MD"
 cat >> "$MD" <<'TEXT'
 
-Small images, many spp, 8 seeds, and a Sobol reference of 2^17 spp (its own error is printed), so that the slopes are
+Small images, many spp, 8 seeds, and a Sobol reference of 2^16 spp (its own error is printed), so that the slopes are
 not flattened by the reference. Expected (TEST-CATALOG 4.8): independent -1; Owen-scrambled Sobol steeper on direct
 lighting (about -1.5 with visibility edges), between -1 and -1.5 on full multi-bounce paths.
 TEXT
 echo -e "\n### 5a. Cornell box, full global illumination (32x32)" >> "$MD"
 bench slopes-cornell --width 32 --height 32 --clock cpu --configs 'mis/rr/ind,mis/rr/sobol,nee/rr/ind,nee/rr/sobol' \
-    --seeds 8 --budget 1 --max-spp 4096 --reference-spp 131072 --reference-sampler sobol
+    --seeds 8 --budget 1 --max-spp 4096 --reference-spp 65536 --reference-sampler sobol
 echo -e "\n### 5b. Cornell box, direct lighting only (--max-depth 1, 32x32)" >> "$MD"
 bench slopes-direct --width 32 --height 32 --max-depth 1 --clock cpu \
     --configs 'mis/rr/ind,mis/rr/sobol,nee/rr/ind,nee/rr/sobol' --seeds 8 --budget 1 --max-spp 4096 \
-    --reference-spp 131072 --reference-sampler sobol
+    --reference-spp 65536 --reference-sampler sobol
 
 echo -e "\n## 6. Where the time goes (perf, Cornell box 256x256, 1 thread, NEE + MIS + roulette)" >> "$MD"
 if perf record -q -e cpu-clock -o "$TMP/perf.data" "$PV" render --spp 32 --width 256 --height 256 --threads 1 \
