@@ -128,7 +128,20 @@ Accel::~Accel() = default;
 
 const AccelStats& Accel::stats() const { return m_impl->stats; }
 
+namespace {
+// Embree's RayK::valid(): every origin and direction component within +-1.844e18 (and not NaN). Debian's Embree
+// asserts on anything else (an abort, e.g. for a framing camera placed beyond a scene whose vertices reach 1.8e18),
+// so such rays hit nothing instead.
+inline bool embree_ray_valid(const Ray& ray) {
+    constexpr float kLarge = 1.844e18f;
+    for (int i = 0; i < 3; ++i)
+        if (!(std::fabs(ray.o[i]) <= kLarge) || !(std::fabs(ray.d[i]) <= kLarge)) return false;
+    return !std::isnan(ray.tmax);
+}
+}  // namespace
+
 bool Accel::intersect(const Ray& ray, Hit& hit) const {
+    if (!embree_ray_valid(ray)) return false;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
@@ -156,6 +169,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
 }
 
 bool Accel::occluded(const Ray& ray) const {
+    if (!embree_ray_valid(ray)) return false;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     RTCRay r;

@@ -28,9 +28,10 @@ public:
     Accel(const Accel&) = delete;
     Accel& operator=(const Accel&) = delete;
 
-    // Closest hit with t in [0, ray.tmax]; false if none.
+    // Closest hit with t in [0, ray.tmax]; false if none. A ray Embree cannot take (a component of o or d beyond
+    // +-1.844e18, or NaN) hits nothing.
     bool intersect(const Ray& ray, Hit& hit) const;
-    // True if anything lies along the ray with t in [0, ray.tmax].
+    // True if anything lies along the ray with t in [0, ray.tmax] (false for a ray Embree cannot take).
     bool occluded(const Ray& ray) const;
     const AccelStats& stats() const;
 

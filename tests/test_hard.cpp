@@ -386,6 +386,32 @@ TEST(DegenerateGeometry, ZeroAreaEmitterIsNeverSampled) {
     }
 }
 
+// Vertices up to 1.844e18 are valid, but a camera framing them (or any ray) can land beyond Embree's coordinate
+// range, where Debian's Embree asserts and aborts (found by the fuzzer: `pathview render` of such an OBJ aborted).
+// Such rays must simply hit nothing.
+TEST(DegenerateGeometry, RaysBeyondEmbreeRangeHitNothingInsteadOfAborting) {
+    auto scene = std::make_shared<Scene>(load_obj_from_string("v 0 0 0\nv 1 0 0\nv 0 1 1.8e18\nf 1 2 3\n", "far.obj"));
+    ASSERT_EQ(scene->triangles.size(), 1u);
+    const CameraDesc cam = scene->framing_camera();
+    EXPECT_GT(max_component(glm::abs(cam.eye)), 1.844e18f);  // the case being tested
+    uint64_t dropped = 0;
+    const Film film = test::render_with_renderer(scene, cam, RenderSettings{}, 8, 8, 2, 1, &dropped);
+    EXPECT_EQ(dropped, 0u);
+    for (float v : film.mean().rgb) EXPECT_TRUE(std::isfinite(v));
+    const Accel accel(*scene);
+    Hit hit;
+    Ray r;
+    r.d = vec3(0.f, 0.f, -1.f);
+    for (vec3 o : {vec3(0.f, 0.f, 1e20f), vec3(std::numeric_limits<float>::infinity()), vec3(std::nanf(""))}) {
+        r.o = o;
+        EXPECT_FALSE(accel.intersect(r, hit));
+        EXPECT_FALSE(accel.occluded(r));
+    }
+    r.o = vec3(0.2f, 0.2f, 1.7e18f);  // just inside the range: still traced
+    r.d = vec3(0.f, 0.f, -1.f);
+    EXPECT_TRUE(accel.intersect(r, hit));
+}
+
 // ---------------------------------------------------------------- NaN / Inf injection
 
 // A test-only material whose emission is NaN (and one +Inf) on small triangles in front of a lit plane. The
