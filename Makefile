@@ -72,10 +72,11 @@ test-tsan: deps
 	  ctest --output-on-failure -j $(JOBS) -R '(^|/)(Threading|Progressive)'
 
 # libFuzzer over the OBJ import path (tests/fuzz) under ASan+UBSan, for FUZZ_SECONDS from the seed corpus
-# tests/fuzz/corpus; new inputs go to build-asan-fuzz/corpus (the repository's corpus is only read).
+# tests/fuzz/corpus (fixed seed, so a run is reproducible up to the time limit); new inputs go to
+# build-asan-fuzz/corpus (the repository's corpus is only read). A crash input is written to ./crash-*.
 test-fuzz: build-asan-fuzz
 	@rm -rf build-asan-fuzz/corpus && mkdir -p build-asan-fuzz/corpus
-	./build-asan-fuzz/tests/fuzz/fuzz_obj -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
+	./build-asan-fuzz/tests/fuzz/fuzz_obj -seed=1 -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
 	  -print_final_stats=1 build-asan-fuzz/corpus tests/fuzz/corpus
 
 bench: build
