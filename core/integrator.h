@@ -22,7 +22,8 @@ struct RenderSettings {
     bool russian_roulette = true;
     int max_depth = 1024;
     uint32_t seed = 0;
-    SamplerKind sampler = SamplerKind::Independent;  // see core/sampler.h
+    // Owen-scrambled Sobol: measured better at equal time on the Cornell box (BENCHMARKS.md sections 1 and 5).
+    SamplerKind sampler = SamplerKind::Sobol;  // see core/sampler.h
 
     bool operator==(const RenderSettings& o) const {
         return light_sampling == o.light_sampling && mis == o.mis && russian_roulette == o.russian_roulette &&

@@ -25,6 +25,7 @@ test::PixelStats render_stats(std::shared_ptr<const Scene> scene, const CameraDe
 
 RenderSettings make_settings(bool nee, bool mis, bool rr, uint32_t seed, int max_depth = 1024) {
     RenderSettings s;
+    s.sampler = SamplerKind::Independent;  // bounds below use the i.i.d. sample variance
     s.light_sampling = nee;
     s.mis = mis;
     s.russian_roulette = rr;

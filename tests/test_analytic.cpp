@@ -40,6 +40,7 @@ void expect_zero_variance_furnace(const Bsdf& bsdf, float rho, int spp) {
     const vec3 L(0.7f, 1.3f, 2.f);
     const test::Tracer tracer(furnace_scene(bsdf, L));
     RenderSettings s;
+    s.sampler = SamplerKind::Independent;  // bounds below use the i.i.d. sample variance
     s.light_sampling = false;
     s.mis = false;
     s.russian_roulette = false;
@@ -73,6 +74,7 @@ TEST(Furnace, RendererPixelsHaveZeroVariance) {
     const vec3 L(1.f);
     auto scene = furnace_scene(Lambertian{vec3(1.f)}, L);
     RenderSettings s;
+    s.sampler = SamplerKind::Independent;  // bounds below use the i.i.d. sample variance
     s.light_sampling = false;
     s.russian_roulette = false;
     const Film film = test::render_with_renderer(scene, furnace_camera(), s, kFurnaceW, kFurnaceH, 16);
@@ -94,6 +96,7 @@ void expect_unbiased_furnace(const Bsdf& bsdf, float rho, bool rr, int spp) {
     const vec3 L(1.f);
     const test::Tracer tracer(furnace_scene(bsdf, L));
     RenderSettings s;
+    s.sampler = SamplerKind::Independent;  // bounds below use the i.i.d. sample variance
     s.russian_roulette = rr;
     s.seed = 17;
     // Only samples whose camera ray hits the sphere (the background is exact): trace the camera ray to tell.
@@ -168,6 +171,7 @@ TEST_P(Enclosure, RadianceMatchesClosedForm) {
     cam.target = vec3(0.3f, 0.2f, -1.f);
     cam.vfov_deg = 70.f;
     RenderSettings s;
+    s.sampler = SamplerKind::Independent;  // bounds below use the i.i.d. sample variance
     s.light_sampling = c.light_sampling;
     s.mis = c.mis;
     s.russian_roulette = c.rr;

@@ -38,6 +38,7 @@ std::shared_ptr<Scene> transformed_cornell(float scale, vec3 translate) {
 // s = 1e8 fails everywhere.
 TEST(Invariance, CornellBoxUnderScaleAndTranslation) {
     RenderSettings base;
+    base.sampler = SamplerKind::Independent;  // bounds below use the i.i.d. sample variance
     base.seed = 500;
     auto scene = test::cornell_box();
     const int w = 16, h = 16, spp = 128;
@@ -214,6 +215,7 @@ TEST(ShadingNormals, ZeroAndFlippedNormalsRenderLikeNoNormals) {
     EXPECT_EQ(zero.stats.bad_normals, 4u);
     EXPECT_EQ(right.stats.bad_normals, 2u);
     RenderSettings s;
+    s.sampler = SamplerKind::Independent;  // bounds below use the i.i.d. sample variance
     s.seed = 3;
     auto film_of = [&](const Scene& sc) {
         auto p = std::make_shared<Scene>(sc);
@@ -250,6 +252,7 @@ TEST(ShadingNormals, LowPolySmoothSphereInFurnace) {
     cam.vfov_deg = 45.f;
     for (bool rr : {false, true}) {
         RenderSettings s;
+        s.sampler = SamplerKind::Independent;  // bounds below use the i.i.d. sample variance
         s.russian_roulette = rr;
         // Without roulette: BSDF sampling only, so each sample is exactly 1 or 0. With roulette: light sampling
         // of the (constant) environment too, so only the mean is bounded.
@@ -301,6 +304,7 @@ TEST(ShadingNormals, SameSideRuleFallsBackToGeometricNormal) {
     cam.eye = vec3(-3.f, 0.4f, 0.f);  // looking along +x at a grazing angle: wo has negative x
     cam.target = vec3(0.f, 0.f, 0.f);
     RenderSettings s;
+    s.sampler = SamplerKind::Independent;  // bounds below use the i.i.d. sample variance
     s.seed = 4;
     std::vector<vec3> a, b;
     flat.for_each_sample(cam, s, 8, 8, 4, [&](int, int, uint32_t, vec3 v) { a.push_back(v); });
@@ -439,6 +443,7 @@ TEST(NanInjection, DroppedCountEqualsCameraSamplesOnTheBadEmitter) {
     cam.vfov_deg = 40.f;
     const int w = 24, h = 24, spp = 16;
     RenderSettings s;
+    s.sampler = SamplerKind::Independent;  // bounds below use the i.i.d. sample variance
     s.seed = 77;
     Renderer r(scene, 2);
     r.restart(cam, s, w, h);
