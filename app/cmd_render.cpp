@@ -11,7 +11,10 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <future>
 #include <memory>
+#include <mutex>
 
 namespace pv::app {
 namespace {
@@ -41,17 +44,34 @@ void run(RenderOptions& o) {
     if (ext != ".exr" && ext != ".png" && ext != ".EXR" && ext != ".PNG")
         throw Error(o.out + ": unknown image format '" + ext + "'; expected .exr or .png");
 
-    if (!o.quiet) std::fprintf(stderr, "pathview: loading %s\n", path.c_str());
+    const bool tty = !o.quiet && isatty(STDERR_FILENO);
     const auto load_start = std::chrono::steady_clock::now();
-    auto scene = std::make_shared<Scene>(load_scene(path));
+    auto since_load = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count(); };
+    // Load on a worker thread; on a terminal, show the elapsed time meanwhile (the OBJ parser reports no fraction).
+    auto loading = std::async(std::launch::async, [&path] { return load_scene(path); });
+    if (tty)
+        while (loading.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready)
+            std::fprintf(stderr, "\rpathview: loading %s  %.1f s", path.c_str(), since_load());
+    auto scene = std::make_shared<Scene>(loading.get());
+    if (tty) std::fprintf(stderr, "\r\033[K");
     apply_scene_overrides(o.common, *scene);
-    const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
+    const double load_seconds = since_load();
     for (const std::string& w : scene->warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
     CameraDesc camera = scene->camera;
     apply_camera_overrides(o.common, *scene, camera);
 
-    if (!o.quiet) std::fprintf(stderr, "pathview: building the BVH of %zu triangles\n", scene->triangle_count());
-    Renderer renderer(scene, o.common.threads);
+    // BVH build progress from Embree's build threads, drawn at most every 2 percent.
+    std::mutex progress_mutex;
+    int drawn = -1;
+    auto build_progress = [&](double fraction) {
+        const int percent = static_cast<int>(fraction * 100.0);
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        if (percent < drawn + 2) return;
+        drawn = percent;
+        std::fprintf(stderr, "\rpathview: building the BVH of %zu triangles  %3d%%", scene->triangle_count(), percent);
+    };
+    Renderer renderer(scene, o.common.threads, tty ? std::function<void(double)>(build_progress) : nullptr);
+    if (tty) std::fprintf(stderr, "\r\033[K");
     if (!o.quiet) {
         const AccelStats& as = renderer.accel().stats();
         std::fprintf(stderr, "pathview: loaded %zu triangles in %.2f s; BVH %.2f s, %.1f MiB (%.0f bytes/triangle)\n",
@@ -59,7 +79,6 @@ void run(RenderOptions& o) {
                      double(as.bytes) / double(std::max<size_t>(1, scene->triangle_count())));
     }
     renderer.restart(camera, o.common.settings, o.common.width, o.common.height);
-    const bool tty = !o.quiet && isatty(STDERR_FILENO);
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     double last_draw = -1.0;

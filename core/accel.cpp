@@ -87,7 +87,7 @@ struct Accel::Impl {
     }
 };
 
-Accel::Accel(const Scene& s) : m_impl(std::make_unique<Impl>()) {
+Accel::Accel(const Scene& s, const std::function<void(double)>& progress) : m_impl(std::make_unique<Impl>()) {
     const auto start = std::chrono::steady_clock::now();
     Impl& im = *m_impl;
     im.device = rtcNewDevice(nullptr);
@@ -117,6 +117,15 @@ Accel::Accel(const Scene& s) : m_impl(std::make_unique<Impl>()) {
         rtcCommitGeometry(geom);
         rtcAttachGeometry(im.scene, geom);
         rtcReleaseGeometry(geom);
+    }
+    if (progress) {
+        rtcSetSceneProgressMonitorFunction(
+            im.scene,
+            [](void* user, double fraction) {
+                (*static_cast<const std::function<void(double)>*>(user))(fraction);
+                return true;  // never cancel
+            },
+            const_cast<std::function<void(double)>*>(&progress));
     }
     rtcCommitScene(im.scene);
     im.check("Embree scene build");

@@ -5,6 +5,7 @@
 #include "core/camera.h"
 #include "core/scene.h"
 
+#include <functional>
 #include <memory>
 
 namespace pv {
@@ -22,8 +23,9 @@ struct AccelStats {
 
 class Accel {
 public:
-    // Builds the BVH. Throws pv::Error on an Embree device or build error.
-    explicit Accel(const Scene& scene);
+    // Builds the BVH. Throws pv::Error on an Embree device or build error. `progress`, when given, receives the
+    // build's completed fraction in [0, 1] from Embree's build threads (it must be thread-safe).
+    explicit Accel(const Scene& scene, const std::function<void(double)>& progress = {});
     ~Accel();
     Accel(const Accel&) = delete;
     Accel& operator=(const Accel&) = delete;

@@ -28,11 +28,11 @@ struct Renderer::Pool {
     explicit Pool(int threads) : arena(threads) {}
 };
 
-Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads)
+Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads, const std::function<void(double)>& build_progress)
     : m_scene(std::move(scene)), m_materials(m_scene->materials) {
     m_threads = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     m_pool = std::make_unique<Pool>(m_threads);
-    m_pool->arena.execute([&] { m_accel = std::make_unique<Accel>(*m_scene); });
+    m_pool->arena.execute([&] { m_accel = std::make_unique<Accel>(*m_scene, build_progress); });
     m_lights = LightSet(*m_scene, m_materials);
     m_environment_settings = pv::environment_settings(*m_scene);
     m_environment = Environment(*m_scene, m_environment_settings);

@@ -30,7 +30,9 @@ struct RenderStats {
 class Renderer {
 public:
     // Builds the acceleration structure for `scene` (throws pv::Error on failure). threads = 0: all cores.
-    Renderer(std::shared_ptr<const Scene> scene, int threads = 0);
+    // build_progress: see Accel.
+    Renderer(std::shared_ptr<const Scene> scene, int threads = 0,
+             const std::function<void(double)>& build_progress = {});
     ~Renderer();
 
     // Sets camera, estimator, resolution, and optionally new materials (same count as the scene's; the BVH is
