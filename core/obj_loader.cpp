@@ -285,7 +285,12 @@ Scene build_scene(std::string text, const std::string& file, const std::string& 
             }
             const vec3 p0 = scene.positions[vi.x], p1 = scene.positions[vi.y], p2 = scene.positions[vi.z];
             const float area2 = glm::length(glm::cross(p1 - p0, p2 - p0));
-            if (!(area2 > 0.f) || !std::isfinite(area2)) {
+            if (!std::isfinite(area2)) {
+                // Edges near 1e18 whose cross product overflows float: as unusable as a non-finite vertex.
+                scene.stats.dropped_overflow++;
+                continue;
+            }
+            if (!(area2 > 0.f)) {
                 scene.stats.dropped_degenerate++;
                 continue;
             }
@@ -317,6 +322,9 @@ Scene build_scene(std::string text, const std::string& file, const std::string& 
         scene.warnings.push_back(file + ": " + std::to_string(st.dropped_nonfinite) +
                                  " triangle(s) with non-finite vertices dropped");
     }
+    if (st.dropped_overflow)
+        scene.warnings.push_back(file + ": " + std::to_string(st.dropped_overflow) +
+                                 " triangle(s) too large for float arithmetic (area overflows) dropped");
     if (st.dropped_degenerate)
         scene.warnings.push_back(file + ": " + std::to_string(st.dropped_degenerate) + " zero-area triangle(s) dropped");
     if (st.dropped_nontriangle)
@@ -341,6 +349,10 @@ Material material_from_mtl(const std::string& name, vec3 kd, vec3 ks, vec3 ke, f
     Material m;
     m.name = name;
     m.emission = glm::max(ke, vec3(0.f));
+    if (!is_finite(m.emission)) {
+        warnings.push_back("material '" + name + "': Ke is not finite; it emits nothing");
+        m.emission = vec3(0.f);
+    }
     kd = glm::clamp(kd, vec3(0.f), vec3(1.f));
     ks = glm::clamp(ks, vec3(0.f), vec3(1.f));
     const bool dissolved = d < 1.f && d >= 0.f;

@@ -28,6 +28,7 @@ struct CameraDesc {
 struct LoadStats {
     size_t dropped_degenerate = 0;   // zero-area triangles
     size_t dropped_nonfinite = 0;    // triangles with a non-finite or absurd (> 1e18) vertex
+    size_t dropped_overflow = 0;     // triangles whose area overflows float (edges near 1e18)
     size_t dropped_nontriangle = 0;  // faces tinyobjloader could not triangulate
     size_t default_material_tris = 0;
     size_t bad_normals = 0;          // corners whose normal was zero/NaN/missing: geometric normal used

@@ -412,6 +412,25 @@ TEST(MtlQuirks, DocumentedBehaviour) {
     }
 }
 
+TEST(MtlQuirks, InfiniteKeEmitsNothingAndSaysSo) {
+    std::vector<std::string> w;
+    const Material m = material_from_mtl("hot", vec3(0.5f), vec3(0.f), vec3(INFINITY, 1.f, 1.f), 10.f, 1.f, 1.f, 2, w);
+    EXPECT_FALSE(m.has_emission());
+    ASSERT_EQ(w.size(), 1u);
+    EXPECT_NE(w[0].find("Ke is not finite"), std::string::npos);
+}
+
+TEST(LoaderLimits, TrianglesWhoseAreaOverflowsAreDroppedAsSuch) {
+    // Edges of 1e17: the cross product's length overflows float, though every vertex is valid (< 1e18).
+    const Scene s = load_obj_from_string("v 0 0 0\nv 1e17 0 0\nv 0 1e17 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n", "big.obj");
+    EXPECT_EQ(s.stats.dropped_overflow, 1u);
+    EXPECT_EQ(s.stats.dropped_degenerate, 0u);
+    EXPECT_EQ(s.triangle_count(), 1u);
+    size_t said = 0;
+    for (const auto& x : s.warnings) said += x.find("area overflows") != std::string::npos;
+    EXPECT_EQ(said, 1u);
+}
+
 TEST(MtlQuirks, BothDAndTrFoldIntoOneWarning) {
     TempDir dir;
     std::string mtl;
