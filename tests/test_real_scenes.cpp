@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 
@@ -63,6 +64,33 @@ vec3 radiance_at(const test::Tracer& tracer, float x, float y, uint32_t index) {
     r.o = vec3(x, y, 1.f);
     r.d = vec3(0.f, 0.f, -1.f);
     return trace_path(tracer.view(), s, r, sampler, c);
+}
+
+// Moments (per channel) of `spp` samples of the radiance along one fixed ray, direct light only (max depth 1,
+// no roulette), with the independent sampler since the callers' bounds use the i.i.d. sample variance.
+std::array<Moments, 3> radiance_moments(const test::Tracer& tracer, bool nee, bool mis, Ray ray, int spp,
+                                        uint32_t seed) {
+    RenderSettings s;
+    s.light_sampling = nee;
+    s.mis = mis;
+    s.russian_roulette = false;
+    s.max_depth = 1;
+    std::array<Moments, 3> m;
+    PathCounters c;
+    Sampler sampler(seed, SamplerKind::Independent);
+    for (int i = 0; i < spp; ++i) {
+        sampler.start(uvec2(3, 4), uint32_t(i));
+        const vec3 L = trace_path(tracer.view(), s, ray, sampler, c);
+        for (int ch = 0; ch < 3; ++ch) m[ch].add(L[ch]);
+    }
+    return m;
+}
+
+Ray ray_from(vec3 o, vec3 d) {
+    Ray r;
+    r.o = o;
+    r.d = d;
+    return r;
 }
 
 TEST(Textures, QuadShowsTheTexelUnderEachPoint) {
@@ -150,21 +178,7 @@ TEST(Textures, AlphaCutOutPassesLightInProportion) {
     const int spp = 4096;
     const double k = sidak_k(2);
     for (const bool nee : {false, true}) {
-        RenderSettings s;
-        s.light_sampling = nee;
-        s.mis = false;
-        s.russian_roulette = false;
-        s.max_depth = 1;
-        Moments m;
-        PathCounters c;
-        Sampler sampler(11);
-        for (int i = 0; i < spp; ++i) {
-            sampler.start(uvec2(3, 4), uint32_t(i));
-            Ray r;
-            r.o = vec3(0.f, 0.f, 0.5f);
-            r.d = vec3(0.f, 0.f, -1.f);
-            m.add(trace_path(tracer.view(), s, r, sampler, c).x);
-        }
+        const Moments m = radiance_moments(tracer, nee, false, ray_from(vec3(0, 0, 0.5f), vec3(0, 0, -1)), spp, 11)[0];
         EXPECT_LE(std::fabs(m.mean - expected), k * m.stderr_of_mean())
             << (nee ? "shadow rays" : "bounce rays") << ": mean " << m.mean << " expected " << expected;
     }
@@ -305,22 +319,8 @@ TEST(Environment, DiffusePlaneUnderMapMatchesAnalyticIrradiance) {
     const double k = sidak_k(9);
     struct Mode { bool nee, mis; const char* name; } modes[] = {{false, false, "bsdf"}, {true, false, "nee"}, {true, true, "mis"}};
     for (const Mode& mode : modes) {
-        RenderSettings s;
-        s.light_sampling = mode.nee;
-        s.mis = mode.mis;
-        s.russian_roulette = false;
-        s.max_depth = 1;
-        Moments m[3];
-        PathCounters c;
-        Sampler sampler(21);
-        for (int i = 0; i < spp; ++i) {
-            sampler.start(uvec2(9, 9), uint32_t(i));
-            Ray r;
-            r.o = vec3(0.3f, 1.f, -0.2f);
-            r.d = vec3(0.f, -1.f, 0.f);
-            const vec3 L = trace_path(tracer.view(), s, r, sampler, c);
-            for (int ch = 0; ch < 3; ++ch) m[ch].add(L[ch]);
-        }
+        const auto m =
+            radiance_moments(tracer, mode.nee, mode.mis, ray_from(vec3(0.3f, 1, -0.2f), vec3(0, -1, 0)), spp, 21);
         for (int ch = 0; ch < 3; ++ch)
             EXPECT_LE(std::fabs(m[ch].mean - E[ch] / M_PI), k * m[ch].stderr_of_mean() + 1e-7)
                 << mode.name << " channel " << ch << ": " << m[ch].mean << " vs " << E[ch] / M_PI;
@@ -347,21 +347,8 @@ TEST(Environment, SunOnDiffusePlaneMatchesClosedForm) {
         const struct { bool nee, mis; const char* name; } modes[] = {
             {false, false, "bsdf"}, {true, false, "nee"}, {true, true, "mis"}};
         for (const auto& mode : modes) {
-            RenderSettings s;
-            s.light_sampling = mode.nee;
-            s.mis = mode.mis;
-            s.russian_roulette = false;
-            s.max_depth = 1;
-            Moments m;
-            PathCounters c;
-            Sampler sampler(31);
-            for (int i = 0; i < spp; ++i) {
-                sampler.start(uvec2(5, 6), uint32_t(i));
-                Ray r;
-                r.o = vec3(0.1f, 1.f, 0.2f);
-                r.d = vec3(0.f, -1.f, 0.f);
-                m.add(trace_path(tracer.view(), s, r, sampler, c).x);
-            }
+            const Moments m =
+                radiance_moments(tracer, mode.nee, mode.mis, ray_from(vec3(0.1f, 1, 0.2f), vec3(0, -1, 0)), spp, 31)[0];
             const double expected = 2.0 * std::cos(theta) / M_PI + sky;  // sun + the sky's upper hemisphere
             EXPECT_LE(std::fabs(m.mean - expected), k * m.stderr_of_mean())
                 << mode.name << " sky " << sky << ": " << m.mean << " vs " << expected;
