@@ -36,7 +36,7 @@ run: build
 	  ./$(BUILD)/pathview; \
 	else \
 	  echo "make run: no display (DISPLAY is not set); rendering the built-in Cornell box headless instead."; \
-	  ./$(BUILD)/pathview render --spp 64 -o cornell.exr && ./$(BUILD)/pathview render --spp 64 -o cornell.png && \
+	  ./$(BUILD)/pathview render --spp 64 -o cornell.exr -o cornell.png && \
 	  echo "make run: wrote $$(pwd)/cornell.exr and $$(pwd)/cornell.png"; \
 	fi
 

@@ -23,7 +23,7 @@ struct RenderOptions {
     CommonOptions common;
     std::optional<int> spp;
     std::optional<double> seconds;
-    std::string out;
+    std::vector<std::string> outs;  // every -o: the same render written to each
     float exposure = 0.f;
     bool quiet = false;
 };
@@ -40,9 +40,11 @@ void run(RenderOptions& o) {
     resolve_switches(o.common);
     if (!o.spp && !o.seconds) o.spp = 64;
     const std::string path = scene_path(o.common);
-    const std::string ext = std::filesystem::path(o.out).extension().string();
-    if (ext != ".exr" && ext != ".png" && ext != ".EXR" && ext != ".PNG")
-        throw Error(o.out + ": unknown image format '" + ext + "'; expected .exr or .png");
+    for (const std::string& out : o.outs) {
+        const std::string ext = std::filesystem::path(out).extension().string();
+        if (ext != ".exr" && ext != ".png" && ext != ".EXR" && ext != ".PNG")
+            throw Error(out + ": unknown image format '" + ext + "'; expected .exr or .png");
+    }
 
     const bool tty = !o.quiet && isatty(STDERR_FILENO);
     const auto load_start = std::chrono::steady_clock::now();
@@ -102,7 +104,11 @@ void run(RenderOptions& o) {
     Image image = renderer.film().mean();
     if (o.exposure != 0.f)
         for (float& v : image.rgb) v *= std::exp2(o.exposure);
-    write_image(o.out, image, render_metadata(renderer));
+    std::string written;
+    for (const std::string& out : o.outs) {
+        write_image(out, image, render_metadata(renderer));
+        written += (written.empty() ? "" : ", ") + out;
+    }
 
     const RenderStats& st = renderer.stats();
     const double secs = std::max(st.seconds, 1e-9);
@@ -116,7 +122,7 @@ void run(RenderOptions& o) {
                 format_si(double(st.shadow_rays) / secs).c_str(),
                 double(st.rays + st.shadow_rays) / double(std::max<uint64_t>(st.paths, 1)),
                 static_cast<unsigned long long>(st.dropped), renderer.threads(), renderer.settings().describe().c_str(),
-                o.out.c_str());
+                written.c_str());
 }
 
 }  // namespace
@@ -131,7 +137,9 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("--time", o->seconds, "Render for this many seconds (whole passes)")
         ->check(CLI::Range(0.0, 1e9))
         ->excludes(spp);
-    cmd->add_option("-o,--output", o->out, "Output file: .exr or .png")->required();
+    cmd->add_option("-o,--output", o->outs, "Output file: .exr or .png; repeat -o to write several")
+        ->required()
+        ->take_all();
     cmd->add_option("--exposure", o->exposure, "Exposure in stops applied before writing")->capture_default_str();
     cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
     cmd->callback([o] { run(*o); });
