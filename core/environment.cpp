@@ -16,9 +16,28 @@ EnvironmentSettings environment_settings(const Scene& scene) {
     return s;
 }
 
+namespace {
+bool has_map(const Scene& scene) {
+    return scene.environment_map != kNoIndex && scene.environment_map < scene.textures.size() &&
+           scene.textures[scene.environment_map].width() > 0 && scene.textures[scene.environment_map].height() > 0;
+}
+bool sky_shines(const Scene& scene, const EnvironmentSettings& s) {
+    return has_map(scene) ? s.strength > 0.f : !pv::is_black(s.background * s.strength);
+}
+bool sun_shines(const EnvironmentSettings& s) {
+    const float len = glm::length(s.sun_direction);
+    return !pv::is_black(s.sun_irradiance) && len > 0.f && std::isfinite(len);
+}
+}  // namespace
+
+bool environment_emits(const Scene& scene, const EnvironmentSettings& settings) {
+    return sky_shines(scene, settings) || sun_shines(settings);
+}
+
 Environment::Environment(const Scene& scene, const EnvironmentSettings& settings) : m_strength(settings.strength) {
     m_rotation = glm::radians(settings.rotation_deg);
-    if (scene.environment_map != kNoIndex && scene.environment_map < scene.textures.size()) {
+    m_sky_black = !sky_shines(scene, settings);
+    if (has_map(scene)) {
         m_map = &scene.textures[scene.environment_map];
         const int w = m_map->width(), h = m_map->height();
         std::vector<float> f(size_t(w) * size_t(h));
@@ -31,16 +50,13 @@ Environment::Environment(const Scene& scene, const EnvironmentSettings& settings
             }
         }
         m_dist = Distribution2D(f, w, h);
-        m_sky_black = !(m_strength > 0.f) || m_dist.empty();
     } else {
         m_constant = settings.background * m_strength;
-        m_sky_black = pv::is_black(m_constant);
     }
     // The sun: irradiance E from a uniform disk of angular radius a is L pi sin^2(a), so L = E / (pi sin^2 a).
     const float radius = glm::radians(glm::clamp(settings.sun_angular_radius_deg, 0.01f, 45.f));
-    const float len = glm::length(settings.sun_direction);
-    if (!pv::is_black(settings.sun_irradiance) && len > 0.f && std::isfinite(len)) {
-        m_sun_dir = settings.sun_direction / len;
+    if (sun_shines(settings)) {
+        m_sun_dir = glm::normalize(settings.sun_direction);
         m_sun_cos = std::cos(radius);
         m_sun_radiance = settings.sun_irradiance / (kPi * sqr(std::sin(radius)));
         m_sun_frame = Frame(m_sun_dir);

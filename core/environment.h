@@ -37,6 +37,8 @@ struct EnvironmentSettings {
     bool operator!=(const EnvironmentSettings& o) const { return !(*this == o); }
 };
 EnvironmentSettings environment_settings(const Scene& scene);
+// True if the environment with these settings gives any light; cheap (no sampling tables are built).
+bool environment_emits(const Scene& scene, const EnvironmentSettings& settings);
 
 class Environment {
 public:

@@ -356,6 +356,24 @@ TEST(Environment, SunOnDiffusePlaneMatchesClosedForm) {
     }
 }
 
+// The viewer asks environment_emits() on every Light edit instead of building sampling tables: it must agree.
+TEST(Environment, EmitsAgreesWithTheFullEnvironment) {
+    auto mapped = scene_with_map(8, 4, 0.f);
+    Scene plain;
+    for (const Scene* scene : {mapped.get(), &plain})
+        for (const float strength : {0.f, 1.f})
+            for (const vec3 sky : {vec3(0.f), vec3(0.2f)})
+                for (const vec3 sun : {vec3(0.f), vec3(3.f)}) {
+                    EnvironmentSettings s = environment_settings(*scene);
+                    s.strength = strength;
+                    s.background = sky;
+                    s.sun_irradiance = sun;
+                    EXPECT_EQ(environment_emits(*scene, s), !Environment(*scene, s).is_black())
+                        << "map " << (scene == mapped.get()) << " strength " << strength << " sky " << sky.x
+                        << " sun " << sun.x;
+                }
+}
+
 TEST(Environment, UnlitSceneGetsTheDefaultSkyAndSaysSo) {
     TempDir dir;
     const std::string obj = dir.file("plane.obj", "v 0 0 0\nv 1 0 0\nv 1 0 1\nf 1 3 2\n");

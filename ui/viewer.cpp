@@ -208,7 +208,7 @@ void Viewer::use_scene(std::shared_ptr<const Scene> scene, std::unique_ptr<Progr
     m_camera = std::make_unique<CameraController>(m_scene->camera, lo, hi);
     m_state.materials = m_scene->materials;
     m_state.selected_material = -1;
-    m_environment_lit = !Environment(*m_scene).is_black();
+    m_environment_lit = environment_emits(*m_scene, environment_settings(*m_scene));
     m_state.environment = environment_settings(*m_scene);
     m_state.has_environment_map = m_scene->environment_map != kNoIndex;
     m_state.bookmarks = m_scene->bookmarks;
@@ -562,7 +562,7 @@ void Viewer::update_request(const PanelActions& act, bool camera_moved, bool res
     if (reason.empty() && m_deferred && !waiting) reason = "camera";
     if (!reason.empty()) {
         if (act.environment_changed)
-            m_environment_lit = !Environment(*m_scene, m_state.environment).is_black();
+            m_environment_lit = environment_emits(*m_scene, m_state.environment);
         if (act.materials_changed || act.environment_changed)
             m_warnings = scene_warnings(*m_scene, m_state.materials, m_environment_lit);
         m_level = kCoarsestLevel;
