@@ -19,6 +19,8 @@ public:
 
     // A ray through film point `film` (pixels); u_lens picks the point on the thin lens. d is unit length.
     Ray generate(vec2 film, vec2 u_lens) const;
+    // False for a pinhole (aperture 0): generate() then ignores u_lens.
+    bool has_lens() const { return m_desc.aperture > 0.f; }
     const CameraDesc& desc() const { return m_desc; }
     int width() const { return m_width; }
     int height() const { return m_height; }

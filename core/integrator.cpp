@@ -17,7 +17,6 @@ struct Surface {
     vec3 p_error; // bound on p's rounding error (barycentric_error), for offset_ray_origin
     vec3 ng;      // unit geometric normal from the winding order
     vec3 ns;      // unit shading normal, same side as ng
-    float area;   // triangle area
 };
 
 inline Surface surface_at(const Scene& s, const Hit& hit) {
@@ -29,9 +28,7 @@ inline Surface surface_at(const Scene& s, const Hit& hit) {
     sf.p = b0 * p0 + hit.u * p1 + hit.v * p2;
     sf.p_error = barycentric_error(p0, p1, p2, b0, hit.u, hit.v);
     const vec3 c = glm::cross(p1 - p0, p2 - p0);
-    const float len = glm::length(c);
-    sf.area = 0.5f * len;
-    sf.ng = c / len;
+    sf.ng = c * (1.f / glm::length(c));
     sf.ns = sf.ng;
     if (!s.normal_indices.empty()) {
         const uvec3 ni = s.normal_indices[hit.prim];
@@ -63,17 +60,18 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
     const float p_env = environment_selection_probability(view);
     const bool nee = settings.light_sampling && (!lights.empty() || p_env > 0.f);
     const bool mis = nee && settings.mis;
+    const bool env_only = p_env == 1.f;  // no emissive triangles: the light selection draw is not needed
 
     vec3 L(0.f), beta(1.f);
     bool specular_bounce = true;  // the camera "bounce" counts like a delta one: emission is always added
     float prev_pdf = 0.f;         // solid-angle pdf of the BSDF sample that produced `ray`
     vec3 prev_p(0.f);
     float eta_scale = 1.f;
-    counters.paths++;
+    uint64_t rays = 0, shadow_rays = 0, vertices = 0;  // counted locally, stored once
 
     for (int depth = 0;; ++depth) {
         Hit hit;
-        counters.rays++;
+        ++rays;
         if (!view.accel->intersect(ray, hit)) {
             // The environment: weighted against its own light sampling, as for emissive triangles.
             if (!env.is_black()) {
@@ -85,17 +83,9 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
             }
             break;
         }
-        counters.vertices++;
+        ++vertices;
         const Surface sf = surface_at(scene, hit);
         const Material& mat = materials[scene.material_ids[hit.prim]];
-        // Only textured materials pay for the texture lookup and a local copy of the BSDF.
-        Bsdf textured;
-        const Bsdf* bsdf = &mat.bsdf;
-        if (mat.base_color_texture != kNoIndex) {
-            textured = mat.bsdf;
-            set_base_color(textured, vec3(scene.textures[mat.base_color_texture].lookup(scene.uv_at(hit.prim, hit.u, hit.v))));
-            bsdf = &textured;
-        }
         const vec3 wo_world = -ray.d;
         const bool front = glm::dot(wo_world, sf.ng) > 0.f;
 
@@ -110,6 +100,15 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         }
         if (depth >= settings.max_depth) break;
 
+        // Only textured materials pay for the texture lookup and a local copy of the BSDF.
+        const Bsdf* bsdf = &mat.bsdf;
+        std::optional<Bsdf> textured;
+        if (mat.base_color_texture != kNoIndex) {
+            textured.emplace(mat.bsdf);
+            set_base_color(*textured, vec3(scene.textures[mat.base_color_texture].lookup(scene.uv_at(hit.prim, hit.u, hit.v))));
+            bsdf = &*textured;
+        }
+
         // Shading frame. Reflection lobes see the side wo is on; the dielectric needs the true orientation.
         const bool is_glass = std::holds_alternative<Dielectric>(mat.bsdf);
         vec3 ng = sf.ng, ns = sf.ns;
@@ -123,55 +122,64 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         const Frame frame(ns);
         const vec3 wo = frame.to_local(wo_world);
 
-        // Fixed dimension budget per bounce: light (1+2), BSDF (1+2), roulette (1).
-        const float u_light_select = sampler.get1d();
-        const vec2 u_light = sampler.get2d();
-        const float u_lobe = sampler.get1d();
-        const vec2 u_bsdf = sampler.get2d();
-        const float u_rr = sampler.get1d();
+        // This bounce's dimensions: light selection (+0), light point (+1), lobe (+2), direction (+3), roulette (+4).
+        const uint32_t dim = sampler.reserve(kBounceDims);
 
         // Next-event estimation.
         if (nee && !is_delta(*bsdf)) {
             // Choose the environment or a triangle; the selection probability folds into the pdf.
-            std::optional<LightSample> ls;
+            const float u_light_select = env_only ? 0.f : sampler.get1d_at(dim);
+            const vec2 u_light = sampler.get2d_at(dim + 1);
+            LightSample ls;
+            bool have = false;
             if (u_light_select < p_env) {
                 if (auto es = env.sample(u_light)) {
-                    ls.emplace();
-                    ls->wi = es->wi;
-                    ls->le = es->le;
-                    ls->pdf = p_env * es->pdf;
-                    ls->dist = std::numeric_limits<float>::infinity();
+                    ls.wi = es->wi;
+                    ls.le = es->le;
+                    ls.pdf = p_env * es->pdf;
+                    ls.dist = std::numeric_limits<float>::infinity();
+                    have = true;
                 }
-            } else if (auto ts = lights.sample(sf.p, (u_light_select - p_env) / (1.f - p_env), u_light)) {
-                ls = ts;
-                ls->pdf *= 1.f - p_env;
+            } else if (lights.sample(sf.p, (u_light_select - p_env) / (1.f - p_env), u_light, ls)) {
+                ls.pdf *= 1.f - p_env;
+                have = true;
             }
-            if (ls && !is_black(ls->le)) {
-                const vec3 wi = frame.to_local(ls->wi);
-                const bool same_side = (glm::dot(ls->wi, ng) > 0.f) == (wi.z > 0.f);
+            if (have && !is_black(ls.le)) {
+                const vec3 wi = frame.to_local(ls.wi);
+                const float cos_gl = glm::dot(ls.wi, ng);
+                const bool same_side = (cos_gl > 0.f) == (wi.z > 0.f);
                 const vec3 f = same_side ? eval(*bsdf, wo, wi) : vec3(0.f);
                 if (!is_black(f)) {
                     // Shadow ray between offset endpoints; t in [0, 1) of the unnormalised segment.
                     Ray shadow;
-                    shadow.o = offset_ray_origin(sf.p, glm::dot(ls->wi, sf.ng) > 0.f ? sf.ng : -sf.ng, sf.p_error);
-                    if (std::isinf(ls->dist)) {
-                        shadow.d = ls->wi;  // toward the environment: unbounded
+                    shadow.o = offset_ray_origin(sf.p, glm::dot(ls.wi, sf.ng) > 0.f ? sf.ng : -sf.ng, sf.p_error);
+                    if (std::isinf(ls.dist)) {
+                        shadow.d = ls.wi;  // toward the environment: unbounded
                     } else {
-                        const vec3 target = offset_ray_origin(ls->p, glm::dot(ls->wi, ls->n) < 0.f ? ls->n : -ls->n, ls->p_error);
+                        const vec3 target = offset_ray_origin(ls.p, glm::dot(ls.wi, ls.n) < 0.f ? ls.n : -ls.n, ls.p_error);
                         shadow.d = target - shadow.o;
                         shadow.tmax = 1.f - 1e-4f;  // pbrt-v4's ShadowEpsilon
                     }
-                    counters.shadow_rays++;
+                    ++shadow_rays;
                     if (!view.accel->occluded(shadow)) {
-                        const float w = mis ? power_heuristic(ls->pdf, pdf(*bsdf, wo, wi)) : 1.f;
-                        L += beta * f * std::fabs(wi.z) * ls->le * (w / ls->pdf);
+                        // The power heuristic's weight over the light pdf, w / p_l = p_l / (p_l^2 + p_b^2): one
+                        // division (power_heuristic's guards: an infinite p_l weighs 1 / p_l = 0).
+                        const float pl = ls.pdf;
+                        float w_over_pdf = 1.f / pl;
+                        if (mis && !std::isinf(pl)) {
+                            const float pb = pdf(*bsdf, wo, wi);
+                            const float denom = pl * pl + pb * pb;
+                            w_over_pdf = denom > 0.f && std::isfinite(denom) ? pl / denom
+                                                                              : power_heuristic(pl, pb) / pl;
+                        }
+                        L += beta * f * (std::fabs(wi.z) * w_over_pdf) * ls.le;
                     }
                 }
             }
         }
 
         // BSDF sampling for the next direction.
-        const auto bs = sample(*bsdf, wo, u_lobe, u_bsdf);
+        const auto bs = sample(*bsdf, wo, sampler.get1d_at(dim + 2), sampler.get2d_at(dim + 3));
         if (!bs) break;
         const vec3 wi_world = frame.to_world(bs->wi);
         const float cos_g = glm::dot(wi_world, ng);
@@ -189,7 +197,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
             const float m = max_component(beta) * eta_scale;
             if (m < 1.f) {
                 const float q = glm::max(0.f, 1.f - m);
-                if (u_rr < q) break;
+                if (sampler.get1d_at(dim + 4) < q) break;
                 beta /= 1.f - q;
             }
         }
@@ -198,6 +206,10 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         ray.d = wi_world;
         ray.tmax = std::numeric_limits<float>::infinity();
     }
+    counters.paths++;
+    counters.rays += rays;
+    counters.shadow_rays += shadow_rays;
+    counters.vertices += vertices;
     return L;
 }
 

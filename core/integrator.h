@@ -57,7 +57,24 @@ inline float environment_selection_probability(const SceneView& v) {
     return v.lights->empty() ? 1.f : 0.5f;
 }
 
-// Radiance arriving along `ray`. Consumes a fixed number of sampler dimensions per bounce.
+// Sampler dimensions: a sample's camera ray uses dimensions 0 (film position) and 1 (lens), then each bounce a
+// block of kBounceDims (light selection, light point, BSDF lobe, BSDF direction, roulette). A dimension keeps its
+// meaning in every sample of a pixel; a draw that a vertex does not need is skipped, not shifted.
+constexpr uint32_t kCameraDims = 2;
+constexpr uint32_t kBounceDims = 5;
+
+// Starts sample `index` of pixel (x, y) and returns its camera ray: the film point jittered uniformly over the
+// pixel (a box filter; its centre with pixel_centre) and, for a thin lens, the lens point. Every renderer (and test)
+// draws camera rays through this one function.
+inline Ray camera_ray(const Camera& camera, Sampler& sampler, int x, int y, uint32_t index,
+                      bool pixel_centre = false) {
+    sampler.start(uvec2(uint32_t(x), uint32_t(y)), index);
+    const uint32_t dim = sampler.reserve(kCameraDims);
+    const vec2 film = vec2(float(x), float(y)) + (pixel_centre ? vec2(0.5f) : sampler.get2d_at(dim));
+    return camera.generate(film, camera.has_lens() ? sampler.get2d_at(dim + 1) : vec2(0.5f));
+}
+
+// Radiance arriving along `ray`. Uses kBounceDims sampler dimensions per bounce.
 vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, Sampler& sampler,
                 PathCounters& counters);
 

@@ -1,8 +1,6 @@
 // core/lights.cpp: power-proportional selection of emissive triangles and uniform area sampling.
 #include "core/lights.h"
 
-#include "core/warp.h"
-
 #include <algorithm>
 
 namespace pv {
@@ -47,29 +45,6 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials)
         m_emitters.push_back({p0, p1, p2, glm::normalize(glm::cross(p1 - p0, p2 - p0)), m.emission, m_pdf_area[tri],
                               m.two_sided_emission});
     }
-}
-
-std::optional<LightSample> LightSet::sample(vec3 ref, float u_select, vec2 u) const {
-    if (m_tris.empty()) return std::nullopt;
-    const size_t k = std::min<size_t>(std::upper_bound(m_cdf.begin(), m_cdf.end(), u_select) - m_cdf.begin(),
-                                      m_tris.size() - 1);
-    const Emitter& e = m_emitters[k];
-    const vec2 b = square_to_triangle(u);
-    LightSample ls;
-    ls.p = (1.f - b.x - b.y) * e.p0 + b.x * e.p1 + b.y * e.p2;
-    ls.p_error = barycentric_error(e.p0, e.p1, e.p2, 1.f - b.x - b.y, b.x, b.y);
-    ls.n = e.n;
-    const vec3 d = ls.p - ref;
-    const float d2 = glm::dot(d, d);
-    if (!(d2 > 0.f)) return std::nullopt;
-    ls.dist = std::sqrt(d2);
-    ls.wi = d / ls.dist;
-    const float cos_l = -glm::dot(ls.n, ls.wi);
-    if (cos_l == 0.f) return std::nullopt;
-    ls.le = (cos_l > 0.f || e.two_sided) ? e.emission : vec3(0.f);
-    ls.pdf = e.pdf_area * d2 / std::fabs(cos_l);
-    if (!(ls.pdf > 0.f) || !std::isfinite(ls.pdf)) return std::nullopt;
-    return ls;
 }
 
 float LightSet::pdf(uint32_t tri, vec3 ref, vec3 p, vec3 n) const {

@@ -5,7 +5,9 @@
 #pragma once
 
 #include "core/scene.h"
+#include "core/warp.h"
 
+#include <algorithm>
 #include <optional>
 #include <vector>
 
@@ -29,8 +31,14 @@ public:
 
     bool empty() const { return m_tris.empty(); }
     size_t size() const { return m_tris.size(); }
-    // Samples a light point as seen from `ref`. Nothing when the sample is useless (d = 0, cos = 0).
-    std::optional<LightSample> sample(vec3 ref, float u_select, vec2 u) const;
+    // Samples a light point as seen from `ref` into `out`; false (out unspecified) when the sample is useless
+    // (d = 0, cos = 0). Inline: this is the path tracer's per-vertex call.
+    bool sample(vec3 ref, float u_select, vec2 u, LightSample& out) const;
+    std::optional<LightSample> sample(vec3 ref, float u_select, vec2 u) const {
+        LightSample ls;
+        if (!sample(ref, u_select, u, ls)) return std::nullopt;
+        return ls;
+    }
     // Solid-angle pdf that sample() picks point p on triangle `tri` (normal n) from `ref`.
     float pdf(uint32_t tri, vec3 ref, vec3 p, vec3 n) const;
     // Probability of choosing triangle `tri` (0 for non-lights).
@@ -55,5 +63,33 @@ private:
     std::vector<float> m_pdf_area;
     float m_total_power = 0.f;
 };
+
+inline bool LightSet::sample(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
+    const size_t n = m_tris.size();
+    if (n == 0) return false;
+    // The first k with cdf[k] > u_select (a linear scan for a few emitters, a binary search beyond).
+    size_t k = 0;
+    if (n <= 8) {
+        while (k + 1 < n && !(u_select < m_cdf[k])) ++k;
+    } else {
+        k = std::min<size_t>(std::upper_bound(m_cdf.begin(), m_cdf.end(), u_select) - m_cdf.begin(), n - 1);
+    }
+    const Emitter& e = m_emitters[k];
+    const vec2 b = square_to_triangle(u);
+    const float b0 = 1.f - b.x - b.y;
+    ls.p = b0 * e.p0 + b.x * e.p1 + b.y * e.p2;
+    ls.p_error = barycentric_error(e.p0, e.p1, e.p2, b0, b.x, b.y);
+    ls.n = e.n;
+    const vec3 d = ls.p - ref;
+    const float d2 = glm::dot(d, d);
+    if (!(d2 > 0.f)) return false;
+    ls.dist = std::sqrt(d2);
+    ls.wi = d * (1.f / ls.dist);
+    const float cos_l = -glm::dot(ls.n, ls.wi);
+    if (cos_l == 0.f) return false;
+    ls.le = (cos_l > 0.f || e.two_sided) ? e.emission : vec3(0.f);
+    ls.pdf = e.pdf_area * d2 / std::fabs(cos_l);
+    return ls.pdf > 0.f && std::isfinite(ls.pdf);
+}
 
 }  // namespace pv

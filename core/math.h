@@ -64,10 +64,32 @@ inline vec3 barycentric_error(vec3 p0, vec3 p1, vec3 p2, float b0, float b1, flo
 // p_error (from barycentric_error) makes it robust where p's own rounding error exceeds those ULPs (a triangle
 // whose vertices are many orders of magnitude larger than p): p then moves at least dot(|n|, p_error) along n,
 // rounded away from p (pbrt-v4, OffsetRayOrigin).
+// The next float above / below v (pbrt-v4's NextFloatUp/Down), inline: no libm call. +inf stays +inf (-inf
+// stays -inf); -0 and +0 step to the smallest positive (negative) denormal.
+inline float next_float_up(float v) {
+    if (std::isinf(v) && v > 0.f) return v;
+    if (v == -0.f) v = 0.f;
+    uint32_t bits;
+    std::memcpy(&bits, &v, 4);
+    bits = v >= 0.f ? bits + 1 : bits - 1;
+    std::memcpy(&v, &bits, 4);
+    return v;
+}
+inline float next_float_down(float v) {
+    if (std::isinf(v) && v < 0.f) return v;
+    if (v == 0.f) v = -0.f;
+    uint32_t bits;
+    std::memcpy(&bits, &v, 4);
+    bits = v > 0.f ? bits - 1 : bits + 1;
+    std::memcpy(&v, &bits, 4);
+    return v;
+}
+
 inline vec3 offset_ray_origin(vec3 p, vec3 n, vec3 p_error = vec3(0.f)) {
     constexpr float kOrigin = 1.f / 32.f;
     constexpr float kFloatScale = 1.f / 65536.f;
     constexpr float kIntScale = 256.f;
+    const float d = glm::dot(glm::abs(n), p_error);
     vec3 out;
     for (int i = 0; i < 3; ++i) {
         const int of = static_cast<int>(kIntScale * n[i]);
@@ -76,14 +98,12 @@ inline vec3 offset_ray_origin(vec3 p, vec3 n, vec3 p_error = vec3(0.f)) {
         bits += (p[i] < 0) ? -of : of;
         float pi;
         std::memcpy(&pi, &bits, 4);
-        out[i] = std::fabs(p[i]) < kOrigin ? p[i] + kFloatScale * n[i] : pi;
-    }
-    const float d = glm::dot(glm::abs(n), p_error);
-    if (d > 0.f) {
-        for (int i = 0; i < 3; ++i) {
-            if (n[i] > 0.f) out[i] = glm::max(out[i], std::nextafter(p[i] + d * n[i], HUGE_VALF));
-            if (n[i] < 0.f) out[i] = glm::min(out[i], std::nextafter(p[i] + d * n[i], -HUGE_VALF));
+        float o = std::fabs(p[i]) < kOrigin ? p[i] + kFloatScale * n[i] : pi;
+        if (d > 0.f) {
+            if (n[i] > 0.f) o = glm::max(o, next_float_up(p[i] + d * n[i]));
+            if (n[i] < 0.f) o = glm::min(o, next_float_down(p[i] + d * n[i]));
         }
+        out[i] = o;
     }
     return out;
 }

@@ -85,11 +85,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                 const int x1 = std::min(x0 + kTile, w), y1 = std::min(y0 + kTile, h);
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) {
-                        sampler.start(uvec2(x, y), index);
-                        // Box filter: jitter uniformly over the pixel's area.
-                        const vec2 film = vec2(float(x), float(y)) + sampler.get2d();
-                        const vec2 u_lens = sampler.get2d();
-                        const Ray ray = m_camera.generate(film, u_lens);
+                        const Ray ray = camera_ray(m_camera, sampler, x, y, index);
                         const vec3 L = trace_path(view, m_settings, ray, sampler, tt.counters);
                         if (!m_film.add(x, y, index, L)) tt.dropped++;
                     }

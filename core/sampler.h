@@ -26,41 +26,56 @@ inline std::optional<SamplerKind> parse_sampler(const std::string& s) {
 
 class Sampler {
 public:
-    explicit Sampler(uint32_t seed = 0, SamplerKind kind = SamplerKind::Independent) : m_seed(seed), m_kind(kind) {}
+    explicit Sampler(uint32_t seed = 0, SamplerKind kind = SamplerKind::Independent)
+        : m_seed(seed), m_kind(kind), m_seed_key(hash_combine(0x70617468ull, seed)) {}
 
     // Begins sample `index` of `pixel`; dimensions restart at 0.
     void start(uvec2 pixel, uint32_t index) {
-        const uint64_t key = hash_combine(hash_combine(hash_combine(0x70617468ull, m_seed), pixel.x), pixel.y);
+        const uint64_t key = hash_combine(hash_combine(m_seed_key, pixel.x), pixel.y);
         if (m_kind == SamplerKind::Independent) {
             m_rng.seed(hash_combine(key, index), key);
         } else {
             m_key = key;
-            m_index = index;
-            m_dim = 0;
+            m_rindex = reverse_bits32(index);
         }
+        m_dim = 0;
     }
-    float get1d() {
+    // The next dimension(s), in order.
+    float get1d() { return get1d_at(m_dim++); }
+    vec2 get2d() { return get2d_at(m_dim++); }
+
+    // Reserves `n` consecutive dimensions and returns the first; get*_at(first + k) then draws dimension k of the
+    // block when (and only when) the caller needs it. Each dimension keeps its meaning in every sample of a pixel,
+    // which the Sobol sampler's stratification needs, while skipped draws cost nothing. (The independent sampler
+    // ignores the dimension and takes the next values of its stream.)
+    uint32_t reserve(uint32_t n) {
+        const uint32_t first = m_dim;
+        m_dim += n;
+        return first;
+    }
+    float get1d_at(uint32_t dim) {
         if (m_kind == SamplerKind::Independent) return m_rng.next_float();
-        return sobol_owen_1d(m_index, next_draw_seed());
+        return sobol_owen_1d_rev(m_rindex, draw_seed(dim));
     }
-    vec2 get2d() {
+    vec2 get2d_at(uint32_t dim) {
         if (m_kind == SamplerKind::Independent) {
             const float a = m_rng.next_float();
             return vec2(a, m_rng.next_float());
         }
-        return sobol_owen_2d(m_index, next_draw_seed());
+        return sobol_owen_2d_rev(m_rindex, draw_seed(dim));
     }
     SamplerKind kind() const { return m_kind; }
 
 private:
     // Padding: every draw gets its own shuffle and scramble seeds, so draws are decorrelated (Burley 2020, sec. 4).
-    uint64_t next_draw_seed() { return hash_combine(m_key, m_dim++); }
+    uint64_t draw_seed(uint32_t dim) const { return hash_combine(m_key, dim); }
 
     uint32_t m_seed;
     SamplerKind m_kind;
+    uint64_t m_seed_key;  // hash of the seed, shared by all pixels
     Pcg32 m_rng;
     uint64_t m_key = 0;
-    uint32_t m_index = 0;
+    uint32_t m_rindex = 0;  // the sample index, bit-reversed once per sample
     uint32_t m_dim = 0;
 };
 

@@ -104,10 +104,8 @@ void expect_unbiased_furnace(const Bsdf& bsdf, float rho, bool rr, int spp) {
     test::Moments mom;
     Sampler sampler(s.seed);
     tracer.for_each_sample(furnace_camera(), s, kFurnaceW, kFurnaceH, spp, [&](int x, int y, uint32_t i, vec3 v) {
-        sampler.start(uvec2(x, y), i);
-        const vec2 film = vec2(float(x), float(y)) + sampler.get2d();
         Hit hit;
-        if (tracer.accel().intersect(camera.generate(film, sampler.get2d()), hit)) mom.add(v.x);
+        if (tracer.accel().intersect(camera_ray(camera, sampler, x, y, i), hit)) mom.add(v.x);
     });
     const double k = test::sidak_k(3);
     ASSERT_GT(mom.n, 1000u);

@@ -456,9 +456,7 @@ TEST(NanInjection, DroppedCountEqualsCameraSamplesOnTheBadEmitter) {
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 Sampler sampler(s.seed, s.sampler);  // as the Renderer draws camera samples
-                sampler.start(uvec2(x, y), uint32_t(i));
-                const vec2 film = vec2(float(x), float(y)) + sampler.get2d();
-                const Ray ray = camera.generate(film, sampler.get2d());
+                const Ray ray = camera_ray(camera, sampler, x, y, uint32_t(i));
                 Hit hit;
                 if (accel.intersect(ray, hit) && (hit.prim == 2 || hit.prim == 3)) ++expected;
             }

@@ -49,6 +49,14 @@ TEST(Sobol, Dim1MatchesDirectionNumbers) {
     for (uint32_t i = 0; i < 8; ++i) EXPECT_DOUBLE_EQ(double(sobol_dim0(i)) * 0x1p-32, i == 0 ? 0.0 : double(reverse_bits32(i)) * 0x1p-32);
 }
 
+TEST(Sobol, Dim1ReversedMatchesTheGeneratorMatrix) {
+    // The shift-and-mask form the sampler uses equals the generator-matrix tables, bit-reversed, on every low index
+    // and on a spread of 32-bit ones.
+    for (uint32_t i = 0; i < (1u << 20); ++i) ASSERT_EQ(sobol_dim1_reversed(i), reverse_bits32(sobol_dim1(i))) << i;
+    for (uint64_t i = 0; i < (1ull << 32); i += 2654435761ull / 1024)
+        ASSERT_EQ(sobol_dim1_reversed(uint32_t(i)), reverse_bits32(sobol_dim1(uint32_t(i)))) << i;
+}
+
 TEST(Sobol, OwenScrambleIsABijectionOnEveryPrefix) {
     // Nested uniform scrambling maps each dyadic interval onto a dyadic interval of the same size: on the top
     // 8 bits it must be a permutation of 0..255.

@@ -154,6 +154,37 @@ TEST(Sampler, SamePixelIndexSeedGivesSameValues) {
     EXPECT_NE(va, vc);
 }
 
+// A reserved block's dimensions, drawn in any order or skipped, give the values sequential draws give: skipping a
+// draw never shifts the meaning of the dimensions after it (the Sobol sampler's stratification relies on it).
+TEST(Sampler, ReservedDimensionsMatchSequentialDraws) {
+    Sampler seq(9, SamplerKind::Sobol), lazy(9, SamplerKind::Sobol);
+    for (uint32_t idx : {0u, 5u, 1000u}) {
+        seq.start(uvec2(2, 3), idx);
+        lazy.start(uvec2(2, 3), idx);
+        const vec2 a = seq.get2d();
+        const float b = seq.get1d();
+        const vec2 c = seq.get2d();
+        const float d = seq.get1d();
+        const uint32_t first = lazy.reserve(4);
+        EXPECT_EQ(lazy.get1d_at(first + 3), d);
+        EXPECT_EQ(lazy.get2d_at(first + 0), a);  // out of order, dimension first + 1 skipped
+        (void)b;
+        EXPECT_EQ(lazy.get2d_at(first + 2), c);
+        EXPECT_EQ(lazy.get1d(), seq.get1d());  // after the block: the same next dimension
+    }
+}
+
+// The inline next_float_up/down equal std::nextafter toward +-inf, including at zeros, denormals and infinities.
+TEST(Math, NextFloatMatchesNextafter) {
+    const float values[] = {0.f, -0.f, 1.f, -1.f, 1e-40f, -1e-40f, 3.4e38f, -3.4e38f, 0x1.fffffep127f,
+                            -0x1.fffffep127f, 1e-3f, 123.456f, std::numeric_limits<float>::denorm_min(),
+                            HUGE_VALF, -HUGE_VALF};
+    for (float v : values) {
+        EXPECT_EQ(next_float_up(v), std::nextafter(v, HUGE_VALF)) << v;
+        EXPECT_EQ(next_float_down(v), std::nextafter(v, -HUGE_VALF)) << v;
+    }
+}
+
 // ---------------------------------------------------------------- EXR
 
 struct TempDir {

@@ -106,11 +106,7 @@ void Tracer::for_each_sample(const CameraDesc& camera_desc, const RenderSettings
     for (int index = 0; index < spp; ++index)
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
-                sampler.start(uvec2(x, y), uint32_t(index));
-                vec2 film = vec2(float(x), float(y)) + sampler.get2d();
-                if (pixel_centre) film = vec2(float(x) + 0.5f, float(y) + 0.5f);
-                const vec2 u_lens = sampler.get2d();
-                const Ray ray = camera.generate(film, u_lens);
+                const Ray ray = camera_ray(camera, sampler, x, y, uint32_t(index), pixel_centre);
                 fn(x, y, uint32_t(index), trace_path(v, settings, ray, sampler, counters));
             }
 }

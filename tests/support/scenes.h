@@ -39,9 +39,8 @@ public:
         return SceneView{m_scene.get(), &m_scene->materials, m_accel.get(), &m_lights, &m_environment};
     }
 
-    // Calls fn(x, y, index, L) for `spp` samples of every pixel, single-threaded, with the Renderer's sample
-    // layout (sampler.start(pixel, index); film jitter; lens; trace_path). With pixel_centre the camera ray goes
-    // through the pixel centre instead (the jitter dimensions are still consumed).
+    // Calls fn(x, y, index, L) for `spp` samples of every pixel, single-threaded, with the Renderer's samples
+    // (camera_ray, then trace_path). With pixel_centre the camera ray goes through the pixel centre instead.
     void for_each_sample(const CameraDesc& camera, const RenderSettings& settings, int width, int height, int spp,
                          const std::function<void(int, int, uint32_t, vec3)>& fn, bool pixel_centre = false) const;
     // Accumulates for_each_sample into a Film (dropped samples counted into *dropped when given).
