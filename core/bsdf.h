@@ -7,6 +7,7 @@
 #pragma once
 
 #include "core/math.h"
+#include "core/warp.h"
 
 #include <optional>
 #include <string>
@@ -52,14 +53,16 @@ struct Glossy {
 using Bsdf = std::variant<Lambertian, Mirror, Dielectric, Glossy>;
 
 // f(wo, wi), without the cosine. Zero for delta lobes.
-vec3 eval(const Bsdf& bsdf, vec3 wo, vec3 wi);
+inline vec3 eval(const Bsdf& bsdf, vec3 wo, vec3 wi);
 // Solid-angle pdf of sample() producing wi. Zero for delta lobes.
-float pdf(const Bsdf& bsdf, vec3 wo, vec3 wi);
+inline float pdf(const Bsdf& bsdf, vec3 wo, vec3 wi);
 // Samples wi given wo; u_lobe picks a lobe or the reflect/refract branch, u the direction.
 // Returns nothing where no direction can be produced (grazing wo, below-surface sample, zero weight).
-std::optional<BsdfSample> sample(const Bsdf& bsdf, vec3 wo, float u_lobe, vec2 u);
+inline std::optional<BsdfSample> sample(const Bsdf& bsdf, vec3 wo, float u_lobe, vec2 u);
 // True if every lobe is a delta function (no light sampling is useful).
-bool is_delta(const Bsdf& bsdf);
+inline bool is_delta(const Bsdf& bsdf) {
+    return std::holds_alternative<Mirror>(bsdf) || std::holds_alternative<Dielectric>(bsdf);
+}
 const char* bsdf_type_name(const Bsdf& bsdf);
 // Sets the diffuse colour (Lambertian albedo, Glossy diffuse clamped so diffuse + specular <= 1); others unchanged.
 void set_base_color(Bsdf& bsdf, vec3 color);
@@ -85,5 +88,42 @@ struct Material {
     uint32_t alpha_texture = kNoIndex;       // index into Scene::textures (map_d): stochastic cut-out
     bool has_emission() const { return !is_black(emission); }
 };
+
+// ---- Inline dispatch: the Lambertian case (most surfaces) is a few instructions in the caller; the other
+// lobes are out of line in bsdf.cpp.
+namespace detail {
+vec3 eval_other(const Bsdf& bsdf, vec3 wo, vec3 wi);
+float pdf_other(const Bsdf& bsdf, vec3 wo, vec3 wi);
+std::optional<BsdfSample> sample_other(const Bsdf& bsdf, vec3 wo, float u_lobe, vec2 u);
+}  // namespace detail
+
+inline vec3 eval(const Bsdf& bsdf, vec3 wo, vec3 wi) {
+    if (const auto* l = std::get_if<Lambertian>(&bsdf)) {
+        // Two-sided: nonzero where wo and wi are strictly on the same side.
+        const bool same_side = wo.z > 0.f ? wi.z > 0.f : (wo.z < 0.f && wi.z < 0.f);
+        return same_side ? l->albedo * kInvPi : vec3(0.f);
+    }
+    return detail::eval_other(bsdf, wo, wi);
+}
+
+inline float pdf(const Bsdf& bsdf, vec3 wo, vec3 wi) {
+    if (std::holds_alternative<Lambertian>(bsdf)) {
+        if (wo.z > 0.f) return cosine_hemisphere_pdf(wi.z);
+        return wo.z < 0.f ? cosine_hemisphere_pdf(-wi.z) : 0.f;
+    }
+    return detail::pdf_other(bsdf, wo, wi);
+}
+
+inline std::optional<BsdfSample> sample(const Bsdf& bsdf, vec3 wo, float u_lobe, vec2 u) {
+    if (const auto* l = std::get_if<Lambertian>(&bsdf)) {
+        if (wo.z == 0.f) return std::nullopt;
+        vec3 wi = square_to_cosine_hemisphere(u);
+        if (!(wi.z > 0.f)) return std::nullopt;  // wi.z == 0 at the disk's rim: a grazing, useless direction
+        const float p = wi.z * kInvPi;            // cosine_hemisphere_pdf(wi.z)
+        if (wo.z < 0.f) wi.z = -wi.z;
+        return BsdfSample{l->albedo * kInvPi, wi, p, false};
+    }
+    return detail::sample_other(bsdf, wo, u_lobe, u);
+}
 
 }  // namespace pv
