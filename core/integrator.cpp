@@ -124,6 +124,18 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
 
         // This bounce's dimensions: light selection (+0), light point (+1), lobe (+2), direction (+3), roulette (+4).
         const uint32_t dim = sampler.reserve(kBounceDims);
+        // Ray origins off the surface on each side of it, computed once when first needed (the shadow ray and the
+        // continuation usually leave on the same side).
+        vec3 origin[2];
+        bool have_origin[2] = {false, false};
+        auto origin_toward = [&](vec3 w) -> vec3 {
+            const int side = glm::dot(w, sf.ng) > 0.f ? 0 : 1;
+            if (!have_origin[side]) {
+                origin[side] = offset_ray_origin(sf.p, side == 0 ? sf.ng : -sf.ng, sf.p_error);
+                have_origin[side] = true;
+            }
+            return origin[side];
+        };
 
         // Next-event estimation.
         if (nee && !is_delta(*bsdf)) {
@@ -152,7 +164,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
                 if (!is_black(f)) {
                     // Shadow ray between offset endpoints; t in [0, 1) of the unnormalised segment.
                     Ray shadow;
-                    shadow.o = offset_ray_origin(sf.p, glm::dot(ls.wi, sf.ng) > 0.f ? sf.ng : -sf.ng, sf.p_error);
+                    shadow.o = origin_toward(ls.wi);
                     if (std::isinf(ls.dist)) {
                         shadow.d = ls.wi;  // toward the environment: unbounded
                     } else {
@@ -179,7 +191,9 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         }
 
         // BSDF sampling for the next direction.
-        const auto bs = sample(*bsdf, wo, sampler.get1d_at(dim + 2), sampler.get2d_at(dim + 3));
+        // Lambertian and mirror have one lobe: no lobe draw.
+        const bool one_lobe = std::holds_alternative<Lambertian>(*bsdf) || std::holds_alternative<Mirror>(*bsdf);
+        const auto bs = sample(*bsdf, wo, one_lobe ? 0.5f : sampler.get1d_at(dim + 2), sampler.get2d_at(dim + 3));
         if (!bs) break;
         const vec3 wi_world = frame.to_world(bs->wi);
         const float cos_g = glm::dot(wi_world, ng);
@@ -202,7 +216,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
             }
         }
 
-        ray.o = offset_ray_origin(sf.p, cos_g > 0.f ? ng : -ng, sf.p_error);
+        ray.o = origin_toward(wi_world);
         ray.d = wi_world;
         ray.tmax = std::numeric_limits<float>::infinity();
     }
