@@ -48,54 +48,84 @@ vec3 point_of(const Scene& s, const Hit& h) {
     return (1.f - h.u - h.v) * s.positions[t.x] + h.u * s.positions[t.y] + h.v * s.positions[t.z];
 }
 
-// One jittered camera ray per pixel; from each hit a random walk of cosine-distributed bounce rays, and at each
-// vertex one shadow ray to a light sample, built as the integrator builds them.
-RaySets make_rays(const Scene& scene, const Accel& accel, const LightSet& lights, const Environment& env,
-                  const Camera& camera, const RayBenchOptions& o) {
-    RaySets sets;
-    Pcg32 rng(o.seed, 0x6a09e667f3bcc909ull);
+// The random walk behind both the recorded ray sets and the minimal kernel: one jittered camera ray for pixel
+// (x, y); from each hit, one shadow ray to a light point (or toward the environment when there are no emitters),
+// built as the integrator builds it, and a cosine-distributed bounce, up to walk_depth bounces. Every surface is
+// treated as white Lambertian. `camera_ray`, `bounce_ray` and `shadow_ray` receive the rays; the closest-hit ones
+// are traced here (the walk needs their hits), shadow_ray decides what to do with its ray.
+template <class OnCamera, class OnBounce, class OnShadow>
+inline void random_walk(const Scene& scene, const Accel& accel, const LightSet& lights, const Environment& env,
+                        const Camera& camera, int x, int y, int walk_depth, Pcg32& rng, OnCamera&& camera_ray,
+                        OnBounce&& bounce_ray, OnShadow&& shadow_ray) {
     auto u2 = [&] {
         const float a = rng.next_float();
         return vec2(a, rng.next_float());
     };
-    for (int y = 0; y < o.height; ++y)
-        for (int x = 0; x < o.width; ++x) {
-            Ray ray = camera.generate(vec2(float(x), float(y)) + u2(), u2());
-            sets.camera.push_back(ray);
-            for (int depth = 0; depth <= o.walk_depth; ++depth) {
-                Hit hit;
-                if (!accel.intersect(ray, hit)) break;
-                const vec3 p = point_of(scene, hit);
-                vec3 n = normal_of(scene, hit.prim);
-                if (glm::dot(n, ray.d) > 0.f) n = -n;  // the side the ray came from
-                // Shadow ray to a light point (or toward the environment when there are no emitters).
-                if (!lights.empty()) {
-                    const float u_sel = rng.next_float();
-                    if (auto ls = lights.sample(p, u_sel, u2())) {
-                        Ray s;
-                        s.o = offset_ray_origin(p, glm::dot(ls->wi, n) > 0.f ? n : -n);
-                        s.d = offset_ray_origin(ls->p, glm::dot(ls->wi, ls->n) < 0.f ? ls->n : -ls->n) - s.o;
-                        s.tmax = 1.f - 1e-4f;
-                        sets.shadow.push_back(s);
-                    }
-                } else if (!env.is_black()) {
-                    if (auto es = env.sample(u2())) {
-                        Ray s;
-                        s.o = offset_ray_origin(p, glm::dot(es->wi, n) > 0.f ? n : -n);
-                        s.d = es->wi;
-                        sets.shadow.push_back(s);
-                    }
-                }
-                if (depth == o.walk_depth) break;
-                const Frame frame(n);
-                ray.o = offset_ray_origin(p, n);
-                ray.d = glm::normalize(frame.to_world(square_to_cosine_hemisphere(u2())));
-                ray.tmax = std::numeric_limits<float>::infinity();
-                sets.bounce.push_back(ray);
+    Ray ray = camera.generate(vec2(float(x), float(y)) + u2(), u2());
+    camera_ray(ray);
+    for (int depth = 0; depth <= walk_depth; ++depth) {
+        Hit hit;
+        if (!accel.intersect(ray, hit)) break;
+        const vec3 p = point_of(scene, hit);
+        vec3 n = normal_of(scene, hit.prim);
+        if (glm::dot(n, ray.d) > 0.f) n = -n;  // the side the ray came from
+        if (!lights.empty()) {
+            const float u_sel = rng.next_float();
+            LightSample ls;
+            if (lights.sample(p, u_sel, u2(), ls)) {
+                Ray s;
+                s.o = offset_ray_origin(p, glm::dot(ls.wi, n) > 0.f ? n : -n);
+                s.d = offset_ray_origin(ls.p, glm::dot(ls.wi, ls.n) < 0.f ? ls.n : -ls.n) - s.o;
+                s.tmax = 1.f - 1e-4f;
+                shadow_ray(s, ls.le * (std::fabs(glm::dot(ls.wi, n)) / ls.pdf));
+            }
+        } else if (!env.is_black()) {
+            if (auto es = env.sample(u2())) {
+                Ray s;
+                s.o = offset_ray_origin(p, glm::dot(es->wi, n) > 0.f ? n : -n);
+                s.d = es->wi;
+                shadow_ray(s, es->le * (std::fabs(glm::dot(es->wi, n)) / es->pdf));
             }
         }
+        if (depth == walk_depth) break;
+        const Frame frame(n);
+        ray.o = offset_ray_origin(p, n);
+        ray.d = glm::normalize(frame.to_world(square_to_cosine_hemisphere(u2())));
+        ray.tmax = std::numeric_limits<float>::infinity();
+        bounce_ray(ray);
+    }
+}
+
+RaySets make_rays(const Scene& scene, const Accel& accel, const LightSet& lights, const Environment& env,
+                  const Camera& camera, const RayBenchOptions& o) {
+    RaySets sets;
+    Pcg32 rng(o.seed, 0x6a09e667f3bcc909ull);
+    for (int y = 0; y < o.height; ++y)
+        for (int x = 0; x < o.width; ++x)
+            random_walk(scene, accel, lights, env, camera, x, y, o.walk_depth, rng,
+                        [&](const Ray& r) { sets.camera.push_back(r); },
+                        [&](const Ray& r) { sets.bounce.push_back(r); },
+                        [&](const Ray& r, vec3) { sets.shadow.push_back(r); });
     return sets;
 }
+
+// Seconds since construction: wall clock, or the process's CPU time divided by the thread count (cpu_clock).
+class BenchClock {
+public:
+    BenchClock(bool cpu_clock, int threads)
+        : m_cpu(cpu_clock), m_threads(threads), m_wall(std::chrono::steady_clock::now()),
+          m_cpu_start(process_cpu_seconds()) {}
+    double elapsed() const {
+        return m_cpu ? (process_cpu_seconds() - m_cpu_start) / m_threads
+                     : std::chrono::duration<double>(std::chrono::steady_clock::now() - m_wall).count();
+    }
+
+private:
+    bool m_cpu;
+    int m_threads;
+    std::chrono::steady_clock::time_point m_wall;
+    double m_cpu_start;
+};
 
 // Traces `rays` over and over for at least `seconds`, in chunks on the arena; returns rays per second.
 template <typename Trace>
@@ -106,8 +136,7 @@ double time_rays(tbb::task_arena& arena, int threads, bool cpu_clock, const std:
     const int chunks = static_cast<int>((rays.size() + chunk - 1) / chunk);
     std::atomic<uint64_t> sink{0};
     uint64_t traced = 0;
-    const auto start = std::chrono::steady_clock::now();
-    const double cpu_start = process_cpu_seconds();
+    const BenchClock clock(cpu_clock, threads);
     double elapsed = 0.0;
     do {
         arena.execute([&] {
@@ -122,8 +151,7 @@ double time_rays(tbb::task_arena& arena, int threads, bool cpu_clock, const std:
             });
         });
         traced += rays.size();
-        elapsed = cpu_clock ? (process_cpu_seconds() - cpu_start) / threads
-                            : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        elapsed = clock.elapsed();
     } while (elapsed < seconds);
     return double(traced) / elapsed;
 }
@@ -147,6 +175,51 @@ RayRates measure_ray_rates(const Scene& scene, const Accel& accel, const LightSe
     rates.bounce = time_rays(arena, threads, o.cpu_clock, sets.bounce, o.seconds_per_kind, closest);
     rates.shadow = time_rays(arena, threads, o.cpu_clock, sets.shadow, o.seconds_per_kind, shadow);
     return rates;
+}
+
+MinimalKernelRate measure_minimal_kernel(const Scene& scene, const Accel& accel, const LightSet& lights,
+                                         const Environment& env, const Camera& camera, const RayBenchOptions& o) {
+    const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    tbb::task_arena arena(threads);
+    struct alignas(64) Row {
+        uint64_t camera = 0, bounce = 0, shadow = 0;
+        float sum = 0.f;  // the estimate, kept so that no work can be optimised away
+    };
+    std::vector<Row> rows(size_t(o.height));
+    MinimalKernelRate out;
+    double elapsed = 0.0;
+    const BenchClock clock(o.cpu_clock, threads);
+    uint32_t pass = 0;
+    do {
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<int>(0, o.height, 1), [&](const tbb::blocked_range<int>& r) {
+                enable_ftz_daz();
+                for (int y = r.begin(); y != r.end(); ++y) {
+                    Row& row = rows[size_t(y)];
+                    Pcg32 rng(hash_combine(o.seed, pass), uint64_t(y));
+                    for (int x = 0; x < o.width; ++x)
+                        random_walk(scene, accel, lights, env, camera, x, y, o.walk_depth, rng,
+                                    [&](const Ray&) { row.camera++; }, [&](const Ray&) { row.bounce++; },
+                                    [&](const Ray& s, vec3 contribution) {
+                                        row.shadow++;
+                                        if (!accel.occluded(s)) row.sum += contribution.x;
+                                    });
+                }
+            });
+        });
+        ++pass;
+        elapsed = clock.elapsed();
+    } while (elapsed < o.seconds_per_kind);
+    double sum = 0.0;
+    for (const Row& row : rows) {
+        out.mix.camera += double(row.camera);
+        out.mix.bounce += double(row.bounce);
+        out.mix.shadow += double(row.shadow);
+        sum += row.sum;
+    }
+    out.rays_per_second = out.mix.total() / elapsed;
+    out.estimate = sum / out.mix.camera;
+    return out;
 }
 
 }  // namespace pv

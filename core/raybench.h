@@ -45,4 +45,18 @@ double process_cpu_seconds();
 RayRates measure_ray_rates(const Scene& scene, const Accel& accel, const LightSet& lights,
                            const Environment& environment, const Camera& camera, const RayBenchOptions& options);
 
+// A minimal path kernel on the same scene, as a floor for the cost of shading: the random walk behind the
+// recorded rays (white Lambertian everywhere, cosine bounces, one shadow ray per vertex, PCG numbers; no MIS,
+// roulette, materials, low-discrepancy sampling or film), tracing its rays as it goes, on `threads` workers for at
+// least seconds_per_kind. Its rate over Embree's rate on its own mix says how close any per-ray shading code can
+// come to the ceiling on this scene.
+struct MinimalKernelRate {
+    double rays_per_second = 0.0;
+    RayMix mix;             // the rays it traced
+    double estimate = 0.0;  // mean direct-light estimate per camera ray (red), so the work is not optimised away
+};
+MinimalKernelRate measure_minimal_kernel(const Scene& scene, const Accel& accel, const LightSet& lights,
+                                         const Environment& environment, const Camera& camera,
+                                         const RayBenchOptions& options);
+
 }  // namespace pv
