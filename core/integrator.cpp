@@ -137,11 +137,18 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
             return origin[side];
         };
 
+        // The bounce's draws, taken together so that their independent hash chains overlap; only those the
+        // vertex uses (one-lobe BSDFs need no lobe draw, delta ones no light draws), in dimension order.
+        const bool do_nee = nee && !is_delta(*bsdf);
+        const float u_light_select = do_nee && !env_only ? sampler.get1d_at(dim) : 0.f;
+        const vec2 u_light = do_nee ? sampler.get2d_at(dim + 1) : vec2(0.f);
+        const bool one_lobe = std::holds_alternative<Lambertian>(*bsdf) || std::holds_alternative<Mirror>(*bsdf);
+        const float u_lobe = one_lobe ? 0.5f : sampler.get1d_at(dim + 2);
+        const vec2 u_bsdf = sampler.get2d_at(dim + 3);
+
         // Next-event estimation.
-        if (nee && !is_delta(*bsdf)) {
+        if (do_nee) {
             // Choose the environment or a triangle; the selection probability folds into the pdf.
-            const float u_light_select = env_only ? 0.f : sampler.get1d_at(dim);
-            const vec2 u_light = sampler.get2d_at(dim + 1);
             LightSample ls;
             bool have = false;
             if (u_light_select < p_env) {
@@ -191,9 +198,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         }
 
         // BSDF sampling for the next direction.
-        // Lambertian and mirror have one lobe: no lobe draw.
-        const bool one_lobe = std::holds_alternative<Lambertian>(*bsdf) || std::holds_alternative<Mirror>(*bsdf);
-        const auto bs = sample(*bsdf, wo, one_lobe ? 0.5f : sampler.get1d_at(dim + 2), sampler.get2d_at(dim + 3));
+        const auto bs = sample(*bsdf, wo, u_lobe, u_bsdf);
         if (!bs) break;
         const vec3 wi_world = frame.to_world(bs->wi);
         const float cos_g = glm::dot(wi_world, ng);
