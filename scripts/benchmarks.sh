@@ -76,7 +76,10 @@ The path tracer (NEE + MIS + roulette) renders for 2 s; then `core/raybench` tra
 same BVH through the same `pv::Accel` calls with the same thread count: one jittered camera ray per pixel, bounce
 rays from random walks (cosine-distributed about the normal, up to 4 bounces) and shadow rays to sampled light
 points, offset and bounded as the integrator does. The ceiling is Embree's rate on the path tracer's own mix (its
-counts of camera, bounce and shadow rays); rounds alternate the two to share the machine's noise.
+counts of camera, bounce and shadow rays); rounds alternate the two to share the machine's noise. The last two
+columns time a minimal path kernel on the same scene (the random walk behind those rays, tracing as it goes: white
+Lambertian, one shadow ray per vertex, PCG numbers, no MIS, roulette, materials, Sobol or film) and give its
+fraction of Embree's rate on its own mix: the floor for the cost of any per-ray shading code on this scene.
 TEXT
 rays rays-cpu --width 512 --height 512 --scaling --clock cpu --rays-rounds 3
 echo -e "\nThe same at wall-clock time (thread scaling 1 vs 2 is only meaningful here; other jobs share the cores):" >> "$MD"
