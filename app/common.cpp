@@ -77,10 +77,9 @@ void apply_scene_overrides(const CommonOptions& o, Scene& scene) {
     if (!o.environment.empty()) {
         set_environment(scene, o.environment);
         // The default-sky notice no longer applies.
-        auto& w = scene.warnings;
-        w.erase(std::remove_if(w.begin(), w.end(),
-                               [](const std::string& m) { return m.find("default sky") != std::string::npos; }),
-                w.end());
+        if (scene.default_sky_warning && *scene.default_sky_warning < scene.warnings.size())
+            scene.warnings.erase(scene.warnings.begin() + std::ptrdiff_t(*scene.default_sky_warning));
+        scene.default_sky_warning.reset();
     }
     if (o.env_rotation) scene.environment_rotation_deg = *o.env_rotation;
     if (o.env_strength) scene.environment_strength = *o.env_strength;

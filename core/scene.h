@@ -8,6 +8,7 @@
 #include "core/math.h"
 #include "core/texture.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,9 @@ struct Scene {
     std::string source;     // the file it came from, for messages
     LoadStats stats;
     std::vector<std::string> warnings;
+    // Index in `warnings` of the "lit by the default sky" notice, when the loader added one: a later
+    // --environment removes exactly that notice.
+    std::optional<size_t> default_sky_warning;
 
     size_t triangle_count() const { return triangles.size(); }
     // Interpolated texture coordinates on triangle `prim` at barycentrics (u, v) of vertices 1 and 2; 0 if none.

@@ -153,6 +153,7 @@ Scene load_json(const std::string& path) {
 void use_default_sky_if_unlit(Scene& scene, bool lighting_given) {
     if (lighting_given || scene.has_emitters() || scene.triangles.empty()) return;
     set_environment(scene, "sky");
+    scene.default_sky_warning = scene.warnings.size();
     scene.warnings.push_back(scene.source +
                              ": the scene has no emitter; lit by the default sky (--environment overrides)");
 }

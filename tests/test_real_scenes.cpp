@@ -382,6 +382,8 @@ TEST(Environment, UnlitSceneGetsTheDefaultSkyAndSaysSo) {
     size_t said = 0;
     for (const auto& w : scene.warnings) said += w.find("default sky") != std::string::npos;
     EXPECT_EQ(said, 1u);
+    ASSERT_TRUE(scene.default_sky_warning.has_value());
+    EXPECT_NE(scene.warnings[*scene.default_sky_warning].find("default sky"), std::string::npos);
     // A scene file that sets its background keeps it.
     dir.file("s.json", R"({"obj": "plane.obj", "background": [0.1, 0.2, 0.3]})");
     const Scene lit = load_scene((dir.path / "s.json").string());
