@@ -1,6 +1,8 @@
 // core/integrator.cpp: the path tracer (see integrator.h). Structure after pbrt-v4's PathIntegrator::Li.
 #include "core/integrator.h"
 
+#include "core/surface.h"
+
 namespace pv {
 namespace {
 
@@ -10,37 +12,6 @@ inline float power_heuristic(float pa, float pb) {
     if (std::isinf(pa)) return 1.f;
     const float r = pb / pa;
     return 1.f / (1.f + r * r);
-}
-
-struct Surface {
-    vec3 p;
-    vec3 p_error; // bound on p's rounding error (barycentric_error), for offset_ray_origin
-    vec3 ng;      // unit geometric normal from the winding order
-    vec3 ns;      // unit shading normal, same side as ng
-};
-
-inline Surface surface_at(const Scene& s, const Hit& hit) {
-    const uvec3 t = s.triangles[hit.prim];
-    const vec3 p0 = s.positions[t.x], p1 = s.positions[t.y], p2 = s.positions[t.z];
-    const float b0 = 1.f - hit.u - hit.v;
-    Surface sf;
-    // Reconstruct p from barycentrics, not o + t d, whose error grows with t (Waechter and Binder 2019).
-    sf.p = b0 * p0 + hit.u * p1 + hit.v * p2;
-    sf.p_error = barycentric_error(p0, p1, p2, b0, hit.u, hit.v);
-    const vec3 c = glm::cross(p1 - p0, p2 - p0);
-    sf.ng = c * (1.f / glm::length(c));
-    sf.ns = sf.ng;
-    if (!s.normal_indices.empty()) {
-        const uvec3 ni = s.normal_indices[hit.prim];
-        if (ni.x != kNoIndex) {
-            const vec3 n = b0 * s.normals[ni.x] + hit.u * s.normals[ni.y] + hit.v * s.normals[ni.z];
-            const float l2 = glm::dot(n, n);
-            // A zero or NaN interpolated normal falls back to the geometric one (pbrt-v4, Triangle).
-            if (l2 > 1e-12f && std::isfinite(l2)) sf.ns = n / std::sqrt(l2);
-            if (glm::dot(sf.ns, sf.ng) < 0.f) sf.ns = -sf.ns;
-        }
-    }
-    return sf;
 }
 
 }  // namespace
@@ -84,7 +55,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
             break;
         }
         ++vertices;
-        const Surface sf = surface_at(scene, hit);
+        const SurfacePoint sf = surface_point(scene, hit);
         const Material& mat = materials[scene.material_ids[hit.prim]];
         const vec3 wo_world = -ray.d;
         const bool front = glm::dot(wo_world, sf.ng) > 0.f;

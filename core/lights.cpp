@@ -42,7 +42,7 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials)
         const vec3 p0 = scene.positions[t.x], p1 = scene.positions[t.y], p2 = scene.positions[t.z];
         const Material& m = materials[scene.material_ids[tri]];
         m_pdf_area[tri] = m_pmf[tri] / m_area[k];
-        m_emitters.push_back({p0, p1, p2, glm::normalize(glm::cross(p1 - p0, p2 - p0)), m.emission, m_pdf_area[tri],
+        m_emitters.push_back({p0, p1, p2, safe_normalize(glm::cross(p1 - p0, p2 - p0)), m.emission, m_pdf_area[tri],
                               m.two_sided_emission});
     }
 }

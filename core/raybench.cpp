@@ -2,6 +2,7 @@
 #include "core/raybench.h"
 
 #include "core/rng.h"
+#include "core/surface.h"
 #include "core/warp.h"
 
 #include <tbb/blocked_range.h>
@@ -37,17 +38,6 @@ struct RaySets {
     std::vector<Ray> camera, bounce, shadow;
 };
 
-// Geometric normal of triangle `prim`.
-vec3 normal_of(const Scene& s, uint32_t prim) {
-    const uvec3 t = s.triangles[prim];
-    return glm::normalize(glm::cross(s.positions[t.y] - s.positions[t.x], s.positions[t.z] - s.positions[t.x]));
-}
-
-vec3 point_of(const Scene& s, const Hit& h) {
-    const uvec3 t = s.triangles[h.prim];
-    return (1.f - h.u - h.v) * s.positions[t.x] + h.u * s.positions[t.y] + h.v * s.positions[t.z];
-}
-
 // The random walk behind both the recorded ray sets and the minimal kernel: one jittered camera ray for pixel
 // (x, y); from each hit, one shadow ray to a light point (or toward the environment when there are no emitters),
 // built as the integrator builds it, and a cosine-distributed bounce, up to walk_depth bounces. Every surface is
@@ -66,30 +56,30 @@ inline void random_walk(const Scene& scene, const Accel& accel, const LightSet& 
     for (int depth = 0; depth <= walk_depth; ++depth) {
         Hit hit;
         if (!accel.intersect(ray, hit)) break;
-        const vec3 p = point_of(scene, hit);
-        vec3 n = normal_of(scene, hit.prim);
-        if (glm::dot(n, ray.d) > 0.f) n = -n;  // the side the ray came from
+        const SurfacePoint sp = surface_point(scene, hit);
+        const vec3 p = sp.p, e = sp.p_error;
+        const vec3 n = glm::dot(sp.ng, ray.d) > 0.f ? -sp.ng : sp.ng;  // the side the ray came from
         if (!lights.empty()) {
             const float u_sel = rng.next_float();
             LightSample ls;
             if (lights.sample(p, u_sel, u2(), ls)) {
                 Ray s;
-                s.o = offset_ray_origin(p, glm::dot(ls.wi, n) > 0.f ? n : -n);
-                s.d = offset_ray_origin(ls.p, glm::dot(ls.wi, ls.n) < 0.f ? ls.n : -ls.n) - s.o;
+                s.o = offset_ray_origin(p, glm::dot(ls.wi, n) > 0.f ? n : -n, e);
+                s.d = offset_ray_origin(ls.p, glm::dot(ls.wi, ls.n) < 0.f ? ls.n : -ls.n, ls.p_error) - s.o;
                 s.tmax = 1.f - 1e-4f;
                 shadow_ray(s, ls.le * (std::fabs(glm::dot(ls.wi, n)) / ls.pdf));
             }
         } else if (!env.is_black()) {
             if (auto es = env.sample(u2())) {
                 Ray s;
-                s.o = offset_ray_origin(p, glm::dot(es->wi, n) > 0.f ? n : -n);
+                s.o = offset_ray_origin(p, glm::dot(es->wi, n) > 0.f ? n : -n, e);
                 s.d = es->wi;
                 shadow_ray(s, es->le * (std::fabs(glm::dot(es->wi, n)) / es->pdf));
             }
         }
         if (depth == walk_depth) break;
         const Frame frame(n);
-        ray.o = offset_ray_origin(p, n);
+        ray.o = offset_ray_origin(p, n, e);
         ray.d = glm::normalize(frame.to_world(square_to_cosine_hemisphere(u2())));
         ray.tmax = std::numeric_limits<float>::infinity();
         bounce_ray(ray);

@@ -10,6 +10,7 @@
 // Statistical bounds come from the sample variance with Sidak-corrected quantiles (alpha = 0.01 per family).
 #include "core/accel.h"
 #include "core/rng.h"
+#include "core/surface.h"
 #include "core/warp.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
@@ -53,26 +54,6 @@ void add_corner(Scene& scene, const Corner& c, uint32_t material) {
         if (glm::dot(glm::cross(q[1] - q[0], q[2] - q[0]), c.n[i]) < 0.f) std::swap(q[1], q[3]);
         test::add_quad(scene, q[0], q[1], q[2], q[3], material);
     }
-}
-
-// A spawned ray's origin and error bound, reconstructed from an Embree hit exactly as core/integrator.cpp's
-// surface_at does (which is private to it), normal included.
-struct SurfacePoint {
-    vec3 p, p_error, ng;
-    uint32_t prim = kNoIndex;
-};
-
-SurfacePoint surface_point(const Scene& scene, const Hit& hit) {
-    const uvec3 t = scene.triangles[hit.prim];
-    const vec3 p0 = scene.positions[t.x], p1 = scene.positions[t.y], p2 = scene.positions[t.z];
-    const float b0 = 1.f - hit.u - hit.v;
-    SurfacePoint sp;
-    sp.p = b0 * p0 + hit.u * p1 + hit.v * p2;
-    sp.p_error = barycentric_error(p0, p1, p2, b0, hit.u, hit.v);
-    const vec3 c = glm::cross(p1 - p0, p2 - p0);
-    sp.ng = c * (1.f / glm::length(c));
-    sp.prim = hit.prim;
-    return sp;
 }
 
 int face_of(uint32_t prim) { return prim == kNoIndex ? -1 : int(prim / 2); }
@@ -197,11 +178,11 @@ TEST(CornerRays, RightAngleGrazingRaysHitTheOtherFaceAtTheAnalyticT) {
 TEST(CornerRays, FiveDegreeGrazingRaysHitTheOtherFaceAtTheAnalyticT) {
     for (float scale : {1.f, 1e3f}) expect_corner_rays_clean(5.0, scale);
 }
-// Known failure, kept for when core/math.h is fixed: at scale 1e-3 the 5 degree wedge leaks. offset_ray_origin
-// moves a coordinate with |p| < 1/32 by the absolute 1/65536 (Waechter and Binder's near-origin branch), which is
-// not scale-invariant: 1.5e-5 units is 1.5% of this 1e-3 wedge, more than the gap x0 tan(5 deg) to the other face
-// for x0 < 0.17 s, so ~75% of these rays start behind the other face. Run with --gtest_also_run_disabled_tests.
-TEST(CornerRays, DISABLED_FiveDegreeMillimetreScaleDoesNotLeak) { expect_corner_rays_clean(5.0, 1e-3f); }
+// A millimetre-sized 5 degree wedge: Waechter and Binder's near-origin branch (move |p| < 1/32 by an absolute
+// 1/65536) is not scale-invariant: 1.5e-5 units is 1.5% of this 1e-3 wedge, more than the gap x0 tan(5 deg) to
+// the other face for x0 < 0.17 s, and ~75% of these rays started behind the other face until offset_ray_origin
+// kept that branch for |p| < 1e-30 only (core/math.h).
+TEST(CornerRays, FiveDegreeMillimetreScaleDoesNotLeak) { expect_corner_rays_clean(5.0, 1e-3f); }
 
 // ---------------------------------------------------------------- contact shadow in a corner
 
@@ -230,7 +211,7 @@ double polygon_form_factor(dvec3 p, dvec3 n, const dvec3* v, int count) {
 // contact region is not averaged away.
 // Breaks with: a leak (origin behind the other face: too bright), self-shadowing of the shadow ray or the
 // continuation (too dark), a shadow-ray tmax that stops short of / runs past the sky, MIS weights that do not sum
-// to one. Measured: the 5 degree wedge at scale 1e-3 (the leak of DISABLED_FiveDegreeMillimetreScaleDoesNotLeak)
+// to one. Measured: the 5 degree wedge at scale 1e-3 (the leak of FiveDegreeMillimetreScaleDoesNotLeak)
 // fails every bin, |z| = 50 to 2800; the enabled cases pass with max |z| ~ 2.5 against k = 3.8.
 struct ShadowCase {
     double angle;
@@ -310,8 +291,9 @@ TEST(CornerContactShadow, DirectSkyLightMatchesLambertFormFactor) {
     for (const ShadowCase& sc : kShadowCases)
         for (bool nee : {false, true}) expect_corner_direct_light(sc, nee, 60000, family);
 }
-// The same leak as DISABLED_FiveDegreeMillimetreScaleDoesNotLeak, seen in the image: too bright next to the edge.
-TEST(CornerContactShadow, DISABLED_FiveDegreeMillimetreScale) {
+// The leak FiveDegreeMillimetreScaleDoesNotLeak guards against, as it would show in the image: too bright next
+// to the edge.
+TEST(CornerContactShadow, FiveDegreeMillimetreScale) {
     for (bool nee : {false, true}) expect_corner_direct_light({5.0, 1e-3f}, nee, 60000, 2 * 6);
 }
 
@@ -520,11 +502,11 @@ TEST(EmbreeIssue416, SpawnedRaysLeaveTheHugeBoxTopCorrectly) {
         EXPECT_EQ(st.down_wrong, 0) << "extent " << extent;
     }
 }
-// Known failure (pathview, not Embree): from half-width ~2.1e9 on, the top triangles' cross(p1 - p0, p2 - p0)
-// has |c| > 1.8e19, so glm::length(c) overflows float (dot(c, c) > FLT_MAX) and the geometric normal
-// c * (1 / length(c)) becomes 0 (core/integrator.cpp's surface_at, mirrored by surface_point above): the offset
-// is then zero and about 90% of spawned rays re-hit the top face at t = 0. A fix: normalise c / max|c_i| first.
-TEST(EmbreeIssue416, DISABLED_SpawnedRaysLeaveTheHugeBoxTopBeyondFloatNormalRange) {
+// Beyond float's normal range: from half-width ~2.1e9 on, the top triangles' cross(p1 - p0, p2 - p0) has
+// |c| > 1.8e19, so dot(c, c) overflows float; a geometric normal c * (1 / length(c)) would be 0, the offset zero,
+// and about 90% of spawned rays re-hit the top face at t = 0 (as they did before surface_point normalised with
+// safe_normalize, core/math.h).
+TEST(EmbreeIssue416, SpawnedRaysLeaveTheHugeBoxTopBeyondFloatNormalRange) {
     for (double extent : {5.89075e9, 5.89075e11}) {
         const HugeBoxStats st = shoot_huge_box(extent, 2000, 8);
         EXPECT_EQ(st.up_hits, 0) << "extent " << extent;

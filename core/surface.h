@@ -1,0 +1,43 @@
+// core/surface.h: the geometry at a ray hit, reconstructed as every ray spawner needs it (the integrator, the ray
+// benchmark and the robustness tests use this one definition): the point from Embree's barycentrics with its
+// rounding-error bound, the geometric normal, and the interpolated shading normal.
+#pragma once
+
+#include "core/accel.h"
+#include "core/scene.h"
+
+#include <cmath>
+
+namespace pv {
+
+struct SurfacePoint {
+    vec3 p;        // reconstructed from barycentrics, not o + t d, whose error grows with t (Waechter and Binder)
+    vec3 p_error;  // bound on p's rounding error (barycentric_error), for offset_ray_origin
+    vec3 ng;       // unit geometric normal from the winding order
+    vec3 ns;       // unit shading normal (interpolated vertex normals, else ng), on ng's side
+    float b0;      // barycentric of vertex 0 (hit.u, hit.v are those of vertices 1 and 2)
+};
+
+inline SurfacePoint surface_point(const Scene& s, const Hit& hit) {
+    const uvec3 t = s.triangles[hit.prim];
+    const vec3 p0 = s.positions[t.x], p1 = s.positions[t.y], p2 = s.positions[t.z];
+    SurfacePoint sp;
+    sp.b0 = 1.f - hit.u - hit.v;
+    sp.p = sp.b0 * p0 + hit.u * p1 + hit.v * p2;
+    sp.p_error = barycentric_error(p0, p1, p2, sp.b0, hit.u, hit.v);
+    sp.ng = safe_normalize(glm::cross(p1 - p0, p2 - p0));
+    sp.ns = sp.ng;
+    if (!s.normal_indices.empty()) {
+        const uvec3 ni = s.normal_indices[hit.prim];
+        if (ni.x != kNoIndex) {
+            const vec3 n = sp.b0 * s.normals[ni.x] + hit.u * s.normals[ni.y] + hit.v * s.normals[ni.z];
+            const float l2 = glm::dot(n, n);
+            // A zero or NaN interpolated normal falls back to the geometric one (pbrt-v4, Triangle).
+            if (l2 > 1e-12f && std::isfinite(l2)) sp.ns = n / std::sqrt(l2);
+            if (glm::dot(sp.ns, sp.ng) < 0.f) sp.ns = -sp.ns;
+        }
+    }
+    return sp;
+}
+
+}  // namespace pv
