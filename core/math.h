@@ -37,8 +37,9 @@ inline float sqr(float x) { return x * x; }
 inline vec3 safe_normalize(vec3 v) {
     const float l2 = glm::dot(v, v);
     if (std::isnormal(l2)) return v * (1.f / std::sqrt(l2));
+    if (!is_finite(v)) return vec3(0.f);
     const float m = max_component(glm::abs(v));
-    if (!(m > 0.f) || !std::isfinite(m)) return vec3(0.f);
+    if (!(m > 0.f)) return vec3(0.f);
     const vec3 s = v * (1.f / m);
     return s * (1.f / std::sqrt(glm::dot(s, s)));
 }

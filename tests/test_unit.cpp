@@ -185,6 +185,21 @@ TEST(Math, NextFloatMatchesNextafter) {
     }
 }
 
+// safe_normalize: unit length where |v|^2 overflows (components ~1e20 .. 3e38) or underflows (1e-25) float, the
+// same direction as double-precision normalisation, and 0 for zero or non-finite input.
+TEST(Math, SafeNormalizeHandlesHugeAndTinyVectors) {
+    for (float scale : {1e-25f, 1e-3f, 1.f, 1e19f, 1e20f, 3e38f}) {
+        const vec3 v = scale * vec3(0.3f, -0.8f, 0.5f);
+        const vec3 n = safe_normalize(v);
+        const glm::dvec3 ref = glm::normalize(glm::dvec3(0.3, -0.8, 0.5));
+        for (int i = 0; i < 3; ++i) EXPECT_NEAR(n[i], ref[i], 1e-6) << "scale " << scale;
+    }
+    EXPECT_EQ(safe_normalize(vec3(0.f)), vec3(0.f));
+    EXPECT_EQ(safe_normalize(vec3(HUGE_VALF, 0.f, 0.f)), vec3(0.f));
+    EXPECT_EQ(safe_normalize(vec3(std::nanf(""), 1.f, 0.f)), vec3(0.f));
+    EXPECT_EQ(safe_normalize(vec3(0.3f, std::nanf(""), 0.f)), vec3(0.f));
+}
+
 // ---------------------------------------------------------------- EXR
 
 struct TempDir {
