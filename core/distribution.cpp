@@ -1,44 +1,63 @@
-// core/distribution.cpp: CDF construction in double and inversion by binary search.
+// core/distribution.cpp: normalisation in double and Vose's alias-table construction.
 #include "core/distribution.h"
 
 #include <algorithm>
+#include <cstddef>
 
 namespace pv {
 
-Distribution1D::Distribution1D(std::vector<float> f) : m_f(std::move(f)) {
-    const size_t n = m_f.size();
-    m_cdf.assign(n + 1, 0.0);
+void build_alias_table(const float* w, size_t n, AliasSlot* out) {
+    // Scaled probabilities p_i = n w_i / sum; a slot is "small" below 1 (Vose 1991, as in pbrt-v4's AliasTable).
+    double sum = 0.0;
+    for (size_t i = 0; i < n; ++i) sum += double(w[i]);
+    std::vector<double> p(n);
+    std::vector<uint32_t> small, large;
+    small.reserve(n);
+    large.reserve(n);
+    size_t heaviest = 0;
     for (size_t i = 0; i < n; ++i) {
-        const float v = std::isfinite(m_f[i]) ? std::max(m_f[i], 0.f) : 0.f;
-        m_f[i] = v;
-        m_cdf[i + 1] = m_cdf[i] + double(v) / double(n);
+        p[i] = double(w[i]) / sum * double(n);
+        (p[i] < 1.0 ? small : large).push_back(uint32_t(i));
+        if (w[i] > w[heaviest]) heaviest = i;
     }
-    const double total = m_cdf[n];
-    m_integral = static_cast<float>(total);
-    if (!(total > 0.0)) {
-        std::fill(m_f.begin(), m_f.end(), 1.f);
-        for (size_t i = 1; i <= n; ++i) m_cdf[i] = double(i) / double(n);
-        m_integral = 0.f;
-        return;
+    // Fill each small slot up to 1 with the excess of a large cell.
+    while (!small.empty() && !large.empty()) {
+        const uint32_t s = small.back(), l = large.back();
+        small.pop_back();
+        large.pop_back();
+        out[s].q = float(p[s]);
+        out[s].alias = l;
+        p[l] = (p[l] + p[s]) - 1.0;
+        (p[l] < 1.0 ? small : large).push_back(l);
     }
-    // Normalise f into a density so pdf() is direct.
-    for (size_t i = 1; i <= n; ++i) m_cdf[i] /= total;
-    for (float& v : m_f) v = static_cast<float>(v / total);
+    // What is left is 1 up to rounding: those slots keep their own cell, except a zero-weight cell (left over
+    // only through rounding), whose slot goes to the heaviest cell so that it is never chosen.
+    for (const uint32_t i : large) out[i] = AliasSlot{1.f, i};
+    for (const uint32_t i : small) out[i] = w[i] > 0.f ? AliasSlot{1.f, i} : AliasSlot{0.f, uint32_t(heaviest)};
 }
 
-float Distribution1D::sample(float u, float* pdf, size_t* cell) const {
-    const size_t n = m_f.size();
-    // The last i with cdf[i] <= u.
-    size_t i = static_cast<size_t>(std::upper_bound(m_cdf.begin(), m_cdf.end(), double(u)) - m_cdf.begin());
-    i = std::min(std::max<size_t>(i, 1), n) - 1;
-    while (i + 1 < n && m_f[i] == 0.f) ++i;  // never land in an empty cell
-    const double width = m_cdf[i + 1] - m_cdf[i];
-    double du = width > 0.0 ? (double(u) - m_cdf[i]) / width : 0.5;
-    du = std::min(std::max(du, 0.0), 1.0);
-    if (pdf) *pdf = m_f[i];
-    if (cell) *cell = i;
-    const float x = static_cast<float>((double(i) + du) / double(n));
-    return std::min(x, kOneMinusEpsilon);
+namespace {
+// Clamps f[0..n) to finite non-negative values and divides it by its mean, so it becomes a density on [0,1);
+// an all-zero f becomes uniform. Returns the mean before normalising (0 for the uniform fallback).
+float normalise_density(float* f, size_t n) {
+    double total = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        f[i] = std::isfinite(f[i]) ? std::max(f[i], 0.f) : 0.f;
+        total += double(f[i]) / double(n);
+    }
+    if (!(total > 0.0)) {
+        std::fill(f, f + n, 1.f);
+        return 0.f;
+    }
+    for (size_t i = 0; i < n; ++i) f[i] = static_cast<float>(f[i] / total);
+    return static_cast<float>(total);
+}
+}  // namespace
+
+Distribution1D::Distribution1D(std::vector<float> f) : m_f(std::move(f)) {
+    m_integral = normalise_density(m_f.data(), m_f.size());
+    m_alias.resize(m_f.size());
+    if (!m_f.empty()) build_alias_table(m_f.data(), m_f.size(), m_alias.data());
 }
 
 float Distribution1D::pdf(float x) const {
@@ -48,28 +67,29 @@ float Distribution1D::pdf(float x) const {
 }
 
 Distribution2D::Distribution2D(const std::vector<float>& f, int width, int height) {
-    std::vector<float> row_integrals(static_cast<size_t>(height));
-    m_rows.reserve(size_t(height));
-    for (int y = 0; y < height; ++y) {
-        m_rows.emplace_back(std::vector<float>(f.begin() + size_t(y) * width, f.begin() + size_t(y + 1) * width));
-        row_integrals[size_t(y)] = m_rows.back().integral();
+    if (width <= 0 || height <= 0) return;
+    m_width = width;
+    m_height = height;
+    const size_t w = size_t(width), h = size_t(height);
+    // Each row becomes its conditional density (in m_pdf for now) and its alias table.
+    m_pdf.assign(f.begin(), f.begin() + std::ptrdiff_t(w * h));
+    m_conditional.resize(w * h);
+    std::vector<float> row_integrals(h);
+    for (size_t y = 0; y < h; ++y) {
+        row_integrals[y] = normalise_density(m_pdf.data() + y * w, w);
+        build_alias_table(m_pdf.data() + y * w, w, m_conditional.data() + y * w);
     }
     m_marginal = Distribution1D(std::move(row_integrals));
-}
-
-vec2 Distribution2D::sample(vec2 u, float* pdf) const {
-    float pdf_y = 0.f, pdf_x = 0.f;
-    size_t row = 0;
-    const float y = m_marginal.sample(u.y, &pdf_y, &row);
-    const float x = m_rows[row].sample(u.x, &pdf_x, nullptr);
-    if (pdf) *pdf = pdf_x * pdf_y;
-    return vec2(x, y);
+    // Joint density = conditional * marginal.
+    for (size_t y = 0; y < h; ++y)
+        for (size_t x = 0; x < w; ++x) m_pdf[y * w + x] *= m_marginal.pdf_cell(y);
 }
 
 float Distribution2D::pdf(vec2 p) const {
-    if (m_rows.empty() || !(p.y >= 0.f) || !(p.y < 1.f)) return 0.f;
-    const size_t row = std::min(static_cast<size_t>(p.y * float(m_rows.size())), m_rows.size() - 1);
-    return m_marginal.pdf(p.y) * m_rows[row].pdf(p.x);
+    if (m_pdf.empty() || !(p.x >= 0.f) || !(p.x < 1.f) || !(p.y >= 0.f) || !(p.y < 1.f)) return 0.f;
+    const size_t col = std::min(static_cast<size_t>(p.x * float(m_width)), size_t(m_width) - 1);
+    const size_t row = std::min(static_cast<size_t>(p.y * float(m_height)), size_t(m_height) - 1);
+    return m_pdf[row * size_t(m_width) + col];
 }
 
 }  // namespace pv

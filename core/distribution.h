@@ -1,45 +1,105 @@
 // core/distribution.h: piecewise-constant distributions on [0,1) and [0,1)^2 (pbrt-v4 PiecewiseConstant1D/2D),
-// sampled by inverting the CDF. Densities are with respect to the unit interval / square.
+// sampled in O(1) with Walker/Vose alias tables (pbrt-v4 AliasTable): one uniform picks a slot and, by comparing
+// its fractional part with the slot's threshold, the slot's own cell or its alias; the leftover of that uniform is
+// remapped to the offset inside the cell, so sampling stays continuous. Densities are with respect to the unit
+// interval / square.
 #pragma once
 
 #include "core/math.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <vector>
 
 namespace pv {
 
+// One slot of an alias table over n cells: slot i yields cell i with probability q, else cell `alias`.
+struct AliasSlot {
+    float q = 1.f;
+    uint32_t alias = 0;
+};
+
+// Builds the n slots of an alias table for weights w[0..n) (non-negative, finite, positive sum; Vose 1991, in
+// double). Cell i is chosen with probability w[i] / sum(w) up to the float rounding of the thresholds; a cell of
+// weight 0 is never chosen.
+void build_alias_table(const float* w, size_t n, AliasSlot* out);
+
+// Picks a cell of the alias table slots[0..n) with u in [0,1); *offset receives the position in [0,1) inside it,
+// uniform and independent of the cell (the part of u left over by the choice, rescaled).
+inline size_t sample_alias_table(const AliasSlot* slots, size_t n, float u, float* offset) {
+    const float s = u * float(n);
+    const size_t i = std::min(static_cast<size_t>(s), n - 1);
+    const float frac = s - float(i);  // in [0, 1]: 1 only when u * n rounds up to n
+    const AliasSlot slot = slots[i];
+    if (frac < slot.q) {
+        *offset = std::min(frac / slot.q, kOneMinusEpsilon);
+        return i;
+    }
+    *offset = std::min((frac - slot.q) / (1.f - slot.q), kOneMinusEpsilon);
+    return slot.alias;
+}
+
+// (cell + offset) / n in [0,1), rounded once (in double) so the result stays inside its cell except within half
+// an ulp of x of the cell's upper edge.
+inline float cell_to_unit(size_t cell, float offset, size_t n) {
+    return std::min(float((double(cell) + double(offset)) / double(n)), kOneMinusEpsilon);
+}
+
 class Distribution1D {
 public:
     Distribution1D() = default;
-    // f: non-negative weights of n equal cells. An all-zero f becomes uniform.
+    // f: non-negative weights of n equal cells (NaN, Inf and negatives count as 0). An all-zero f becomes uniform.
     explicit Distribution1D(std::vector<float> f);
 
-    // Returns x in [0,1) with density pdf(x); *cell receives the cell index.
-    float sample(float u, float* pdf, size_t* cell) const;
-    float pdf(float x) const;  // density at x
-    float integral() const { return m_integral; }  // mean of f (before the uniform fallback)
+    // Returns x in [0,1) with density pdf(x); *cell receives the cell index. Requires size() > 0.
+    float sample(float u, float* pdf, size_t* cell) const {
+        float offset = 0.f;
+        const size_t i = sample_alias_table(m_alias.data(), m_f.size(), u, &offset);
+        if (pdf) *pdf = m_f[i];
+        if (cell) *cell = i;
+        return cell_to_unit(i, offset, m_f.size());
+    }
+    float pdf(float x) const;                          // density at x; 0 outside [0,1)
+    float pdf_cell(size_t i) const { return m_f[i]; }  // density in cell i < size()
+    float integral() const { return m_integral; }      // mean of f (before the uniform fallback)
     size_t size() const { return m_f.size(); }
 
 private:
-    std::vector<float> m_f;
-    std::vector<double> m_cdf;  // n + 1 entries, 0 .. 1
+    std::vector<float> m_f;  // normalised density per cell
+    std::vector<AliasSlot> m_alias;
     float m_integral = 0.f;
 };
 
 class Distribution2D {
 public:
     Distribution2D() = default;
-    // f: width x height weights, row-major, row 0 first (row = the v / y axis).
+    // f: width x height weights, row-major, row 0 first (row = the v / y axis). Each row is a conditional
+    // distribution in x (uniform if all zero); the rows are chosen by their integrals (uniform if all are zero).
     Distribution2D(const std::vector<float>& f, int width, int height);
 
-    // Returns (x, y) in [0,1)^2 with density *pdf.
-    vec2 sample(vec2 u, float* pdf) const;
+    // Returns (x, y) in [0,1)^2 with density *pdf; *cell (if given) receives the texel index row * width + column.
+    vec2 sample(vec2 u, float* pdf, size_t* cell = nullptr) const {
+        float pdf_y = 0.f, offset_x = 0.f;
+        size_t row = 0;
+        const float y = m_marginal.sample(u.y, &pdf_y, &row);
+        const size_t w = size_t(m_width);
+        const size_t col = sample_alias_table(m_conditional.data() + row * w, w, u.x, &offset_x);
+        const size_t index = row * w + col;
+        if (pdf) *pdf = m_pdf[index];
+        if (cell) *cell = index;
+        return vec2(cell_to_unit(col, offset_x, w), y);
+    }
     float pdf(vec2 p) const;
-    bool empty() const { return m_rows.empty(); }
+    float pdf_cell(size_t index) const { return m_pdf[index]; }  // density in texel index = row * width + column
+    bool empty() const { return m_pdf.empty(); }
+    int width() const { return m_width; }
+    int height() const { return m_height; }
 
 private:
-    std::vector<Distribution1D> m_rows;  // conditional in x, per row
-    Distribution1D m_marginal;           // over rows
+    int m_width = 0, m_height = 0;
+    Distribution1D m_marginal;             // over rows
+    std::vector<AliasSlot> m_conditional;  // one alias table over x per row, width slots each
+    std::vector<float> m_pdf;              // joint density per texel: marginal * conditional
 };
 
 }  // namespace pv

@@ -3,6 +3,8 @@
 
 #include "core/warp.h"
 
+#include <algorithm>
+
 namespace pv {
 
 EnvironmentSettings environment_settings(const Scene& scene) {
@@ -28,7 +30,34 @@ bool sun_shines(const EnvironmentSettings& s) {
     const float len = glm::length(s.sun_direction);
     return !pv::is_black(s.sun_irradiance) && len > 0.f && std::isfinite(len);
 }
+
+// atan2(y, x) in [-pi, pi] from an odd degree-11 minimax polynomial for atan on [0, 1] (the coefficients often
+// quoted after Abramowitz and Stegun 4.4.47's form). It only picks the candidate texel, which exact edge tests then
+// correct, so its error just has to stay below the margin: max |error| 2.0e-6 rad measured against double atan2
+// over 2e7 angles; kAtanMaxError leaves a factor 2 (tests/test_environment_sampling.cpp checks it).
+constexpr float kAtanMaxError = 4e-6f;
+float atan2_approx(float y, float x) {
+    const float ax = std::fabs(x), ay = std::fabs(y);
+    const float hi = std::max(ax, ay), lo = std::min(ax, ay);
+    const float t = hi > 0.f ? lo / hi : 0.f;
+    const float z = t * t;
+    float r = t * (0.99997726f +
+                   z * (-0.33262347f + z * (0.19354346f + z * (-0.11643287f + z * (0.05265332f + z * -0.01172120f)))));
+    if (ay > ax) r = 0.5f * kPi - r;
+    if (x < 0.f) r = kPi - r;
+    return std::copysign(r, y);
+}
+
+// Half-width, in cells, of the band around a cell edge where an approximate coordinate may sit on the wrong
+// side: the angle error plus float rounding (relative 2^-23 of a coordinate up to n), times 4. Capped below half
+// a cell so that an edge test only ever compares a direction with an edge less than half a cell away.
+float edge_margin(int n, float span) {
+    return std::min(0.45f, 1e-3f + 4.f * ((kAtanMaxError + 1e-6f) * float(n) / span + 1.2e-7f * float(n)));
+}
 }  // namespace
+
+float environment_atan2_approx(float y, float x) { return atan2_approx(y, x); }
+float environment_atan2_max_error() { return kAtanMaxError; }
 
 bool environment_emits(const Scene& scene, const EnvironmentSettings& settings) {
     return sky_shines(scene, settings) || sun_shines(settings);
@@ -36,20 +65,39 @@ bool environment_emits(const Scene& scene, const EnvironmentSettings& settings) 
 
 Environment::Environment(const Scene& scene, const EnvironmentSettings& settings) : m_strength(settings.strength) {
     m_rotation = glm::radians(settings.rotation_deg);
+    m_rotation_cs = vec2(float(std::cos(double(m_rotation))), float(std::sin(double(m_rotation))));
     m_sky_black = !sky_shines(scene, settings);
     if (has_map(scene)) {
         m_map = &scene.textures[scene.environment_map];
         const int w = m_map->width(), h = m_map->height();
         std::vector<float> f(size_t(w) * size_t(h));
+        m_radiance.resize(f.size());
         for (int y = 0; y < h; ++y) {
-            // Texel rows are equal steps in theta; sin(theta) accounts for their shrinking solid angle.
-            const float sin_theta = std::sin(kPi * (float(y) + 0.5f) / float(h));
+            // Texel rows are equal steps in theta; sin(theta) accounts for their shrinking solid angle. In double:
+            // near theta = pi a float argument's rounding is a 1e-4 relative error of the sine.
+            const float sin_theta = float(std::sin(M_PI * (double(y) + 0.5) / double(h)));
             for (int x = 0; x < w; ++x) {
                 const vec2 uv((float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h));
-                f[size_t(y) * w + x] = luminance(vec3(m_map->lookup(vec2(uv.x, 1.f - uv.y)))) * sin_theta;
+                // At the texel centre the bilinear lookup is the texel itself.
+                const vec3 le = vec3(m_map->lookup(vec2(uv.x, 1.f - uv.y)));
+                f[size_t(y) * w + x] = luminance(le) * sin_theta;
+                m_radiance[size_t(y) * w + x] = le * m_strength;
             }
         }
         m_dist = Distribution2D(f, w, h);
+        // Texel edges as directions (in double, then rounded once) for the exact side tests of texel_index.
+        m_col_edges.resize(size_t(w));
+        for (int k = 0; k < w; ++k) {
+            const double phi = 2.0 * M_PI * double(k) / double(w);
+            m_col_edges[size_t(k)] = vec2(float(std::cos(phi)), float(std::sin(phi)));
+        }
+        m_row_edges.resize(size_t(h) + 1);
+        for (int k = 0; k <= h; ++k) {
+            const double theta = M_PI * double(k) / double(h);
+            m_row_edges[size_t(k)] = vec2(float(std::sin(theta)), float(std::cos(theta)));
+        }
+        m_col_margin = edge_margin(w, 2.f * kPi);
+        m_row_margin = edge_margin(h, kPi);
     } else {
         m_constant = settings.background * m_strength;
     }
@@ -74,15 +122,62 @@ vec2 Environment::direction_to_uv(vec3 d) const {
 }
 
 vec3 Environment::uv_to_direction(vec2 uv) const {
-    const float phi = uv.x * 2.f * kPi + m_rotation, theta = uv.y * kPi;
-    const float s = std::sin(theta);
-    return vec3(s * std::cos(phi), std::cos(theta), -s * std::sin(phi));
+    // theta = pi v is half a turn of v; phi in map space is u turns, then rotated by m_rotation about +y.
+    const vec2 cs_theta = cos_sin_turns(0.5f * uv.y), cs_map = cos_sin_turns(uv.x);
+    const vec2 cs_phi(cs_map.x * m_rotation_cs.x - cs_map.y * m_rotation_cs.y,
+                      cs_map.y * m_rotation_cs.x + cs_map.x * m_rotation_cs.y);
+    return vec3(cs_theta.y * cs_phi.x, cs_theta.x, -cs_theta.y * cs_phi.y);
 }
 
-vec3 Environment::eval(vec3 dir) const {
-    vec3 sun(0.f);
-    if (m_p_sun > 0.f && glm::dot(dir, m_sun_dir) >= m_sun_cos) sun = m_sun_radiance;
-    return sun + eval_sky(dir);
+size_t Environment::texel_index(vec3 d, float* sin_theta) const {
+    const int w = m_dist.width(), h = m_dist.height();
+    const float rxz = std::sqrt(d.x * d.x + d.z * d.z);
+    *sin_theta = rxz / std::sqrt(rxz * rxz + d.y * d.y);
+    // Row: an approximate theta picks a candidate; near an edge the exact side test against that edge's
+    // direction (sin theta_k, cos theta_k) decides. theta >= theta_k iff sin theta_k * y <= cos theta_k * rxz.
+    auto past_row_edge = [&](int k) { return m_row_edges[size_t(k)].x * d.y <= m_row_edges[size_t(k)].y * rxz; };
+    float a = atan2_approx(rxz, d.y) * (float(h) * kInvPi);
+    a = a > 0.f ? a : 0.f;  // also maps NaN to 0
+    int row = std::min(int(a), h - 1);
+    float f = a - float(row);
+    if (f < m_row_margin) {
+        if (row > 0 && !past_row_edge(row)) --row;
+    } else if (f > 1.f - m_row_margin) {
+        if (row + 1 < h && past_row_edge(row + 1)) ++row;
+    }
+    // Column: the same in map space, (X, Y) = (cos, sin) of phi - rotation, wrapping at phi = 0; an edge
+    // direction (cos phi_k, sin phi_k) is passed when the cross product with (X, Y) is >= 0.
+    const float X = d.x * m_rotation_cs.x - d.z * m_rotation_cs.y;
+    const float Y = -d.z * m_rotation_cs.x - d.x * m_rotation_cs.y;
+    auto past_col_edge = [&](int k) { return m_col_edges[size_t(k)].x * Y >= m_col_edges[size_t(k)].y * X; };
+    float t = atan2_approx(Y, X) * kInv2Pi;
+    if (t < 0.f) t += 1.f;
+    a = t * float(w);
+    a = a > 0.f ? a : 0.f;
+    int col = std::min(int(a), w - 1);
+    f = a - float(col);
+    if (w > 1) {
+        if (f < m_col_margin) {
+            if (!past_col_edge(col)) col = (col == 0 ? w : col) - 1;
+        } else if (f > 1.f - m_col_margin) {
+            const int next = col + 1 == w ? 0 : col + 1;
+            if (past_col_edge(next)) col = next;
+        }
+    }
+    return size_t(row) * size_t(w) + size_t(col);
+}
+
+ivec2 Environment::direction_to_texel(vec3 dir) const {
+    if (!m_map) return ivec2(0);
+    float sin_theta = 0.f;
+    const size_t i = texel_index(dir, &sin_theta);
+    return ivec2(int(i % size_t(m_dist.width())), int(i / size_t(m_dist.width())));
+}
+
+vec3 Environment::eval(vec3 dir) const { return eval_sun(dir) + eval_sky(dir); }
+
+vec3 Environment::eval_sun(vec3 dir) const {
+    return m_p_sun > 0.f && glm::dot(dir, m_sun_dir) >= m_sun_cos ? m_sun_radiance : vec3(0.f);
 }
 
 float Environment::pdf_sun(vec3 dir) const {
@@ -94,11 +189,8 @@ float Environment::pdf_sun(vec3 dir) const {
 vec3 Environment::eval_sky(vec3 dir) const {
     if (m_sky_black) return vec3(0.f);
     if (!m_map) return m_constant;
-    const vec2 uv = direction_to_uv(dir);
-    // Nearest texel: uv -> texel centre, so the radiance is constant over each sampled cell.
-    const float x = (std::floor(uv.x * float(m_map->width())) + 0.5f) / float(m_map->width());
-    const float y = (std::floor(uv.y * float(m_map->height())) + 0.5f) / float(m_map->height());
-    return vec3(m_map->lookup(vec2(x, 1.f - y))) * m_strength;
+    float sin_theta = 0.f;
+    return m_radiance[texel_index(dir, &sin_theta)];
 }
 
 std::optional<EnvironmentSample> Environment::sample(vec2 u) const {
@@ -109,17 +201,32 @@ std::optional<EnvironmentSample> Environment::sample(vec2 u) const {
         const float ux = glm::min(u.x / m_p_sun, kOneMinusEpsilon);
         const float cos_t = 1.f - ux * (1.f - m_sun_cos);
         const float sin_t = safe_sqrt(1.f - cos_t * cos_t);
-        const float phi = 2.f * kPi * u.y;
-        s.wi = m_sun_frame.to_world(vec3(sin_t * std::cos(phi), sin_t * std::sin(phi), cos_t));
+        const vec2 cs = cos_sin_turns(u.y);  // phi = 2 pi u.y
+        s.wi = m_sun_frame.to_world(vec3(sin_t * cs.x, sin_t * cs.y, cos_t));
+        if (m_map && !m_sky_black) {
+            // One texel search serves both the sky's radiance and its pdf.
+            float sin_theta = 0.f;
+            const size_t texel = texel_index(s.wi, &sin_theta);
+            s.pdf = m_p_sun * pdf_sun(s.wi) + (1.f - m_p_sun) * pdf_sky_texel(texel, sin_theta);
+            if (!(s.pdf > 0.f)) return std::nullopt;
+            s.le = eval_sun(s.wi) + m_radiance[texel];
+            return s;
+        }
     } else if (!m_map) {
         const vec2 us((u.x - m_p_sun) / (1.f - m_p_sun), u.y);
         s.wi = square_to_uniform_sphere(vec2(glm::min(us.x, kOneMinusEpsilon), us.y));
     } else {
+        // The map: the sampled texel gives the radiance and the pdf directly (no search), so they match exactly.
         const vec2 us(glm::min((u.x - m_p_sun) / (1.f - m_p_sun), kOneMinusEpsilon), u.y);
         float pdf_uv = 0.f;
-        const vec2 uv = m_dist.sample(us, &pdf_uv);
-        if (!(pdf_uv > 0.f) || !(std::sin(uv.y * kPi) > 0.f)) return std::nullopt;
+        size_t texel = 0;
+        const vec2 uv = m_dist.sample(us, &pdf_uv, &texel);
         s.wi = uv_to_direction(uv);
+        const float sin_theta = std::sqrt(s.wi.x * s.wi.x + s.wi.z * s.wi.z);
+        if (!(pdf_uv > 0.f) || !(sin_theta > 0.f)) return std::nullopt;
+        s.pdf = m_p_sun * pdf_sun(s.wi) + (1.f - m_p_sun) * pdf_sky_texel(texel, sin_theta);
+        s.le = eval_sun(s.wi) + m_radiance[texel];
+        return s;
     }
     s.pdf = pdf(s.wi);
     if (!(s.pdf > 0.f)) return std::nullopt;
@@ -135,11 +242,15 @@ float Environment::pdf(vec3 dir) const {
 float Environment::pdf_sky(vec3 dir) const {
     if (m_sky_black) return 0.f;
     if (!m_map) return uniform_sphere_pdf();
-    const vec2 uv = direction_to_uv(dir);
-    const float sin_theta = std::sin(uv.y * kPi);
+    float sin_theta = 0.f;
+    const size_t texel = texel_index(dir, &sin_theta);
+    return pdf_sky_texel(texel, sin_theta);
+}
+
+float Environment::pdf_sky_texel(size_t texel, float sin_theta) const {
     if (!(sin_theta > 0.f)) return 0.f;
     // Jacobian of (u, v) -> direction: d omega = 2 pi^2 sin(theta) du dv.
-    return m_dist.pdf(uv) / (2.f * kPi * kPi * sin_theta);
+    return m_dist.pdf_cell(texel) / (2.f * kPi * kPi * sin_theta);
 }
 
 Texture make_default_sky() {

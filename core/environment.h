@@ -3,14 +3,17 @@
 // mixture of the two, so MIS sees one light. The sky is a constant radiance, or an equirectangular map
 // (latitude-longitude, +y up) importance-sampled by a piecewise-constant distribution over its texels weighted by
 // luminance * sin(theta). The map is looked up per texel (no filtering) so the sampling pdf is exactly
-// proportional to the radiance it returns. Directions: theta = acos(y); phi = atan2(-z, x) + rotation, so the
-// map's centre column (u = 0.5) faces -x. pdfs are per solid angle.
+// proportional to the radiance it returns: eval() and pdf() find a direction's texel with the same search (an
+// approximate angle, then exact tests against the texel's edge directions), and sample() returns the radiance and
+// pdf of the texel it sampled. Directions: theta = acos(y); phi = atan2(-z, x) + rotation, so the map's centre
+// column (u = 0.5) faces -x. pdfs are per solid angle.
 #pragma once
 
 #include "core/distribution.h"
 #include "core/scene.h"
 
 #include <optional>
+#include <vector>
 
 namespace pv {
 
@@ -54,8 +57,13 @@ public:
     float pdf(vec3 dir) const;
 
     // The equirectangular parameterisation (exposed for tests): uv in [0,1)^2, v = 0 at the zenith.
+    // direction_to_uv is the libm reference; eval/pdf use direction_to_texel, which agrees with
+    // floor(direction_to_uv(dir) * size) except within float rounding of a texel edge.
     vec2 direction_to_uv(vec3 dir) const;
     vec3 uv_to_direction(vec2 uv) const;
+    // The map texel (column, row from the zenith) that eval() and pdf() use for dir (any length, not 0); (0, 0)
+    // without a map.
+    ivec2 direction_to_texel(vec3 dir) const;
 
 private:
     bool m_black = true;
@@ -68,14 +76,28 @@ private:
     float m_p_sun = 0.f;
     Frame m_sun_frame;
 
+    vec3 eval_sun(vec3 dir) const;
     vec3 eval_sky(vec3 dir) const;
     float pdf_sky(vec3 dir) const;
+    float pdf_sky_texel(size_t texel, float sin_theta) const;  // map pdf toward a direction in that texel
     float pdf_sun(vec3 dir) const;
+    // Texel index row * width + column of dir, and sin(theta) of dir (0 at the poles).
+    size_t texel_index(vec3 dir, float* sin_theta) const;
     const Texture* m_map = nullptr;
     float m_strength = 1.f;
     float m_rotation = 0.f;  // radians
+    vec2 m_rotation_cs{1.f, 0.f};  // cos, sin of m_rotation
     Distribution2D m_dist;
+    std::vector<vec3> m_radiance;   // per texel, times the strength: what eval_sky returns
+    std::vector<vec2> m_col_edges;  // (cos, sin) of phi_k = 2 pi k / width, map space, k < width
+    std::vector<vec2> m_row_edges;  // (sin, cos) of theta_k = pi k / height, k <= height
+    float m_col_margin = 0.f, m_row_margin = 0.f;  // approximate-angle error bound, in texels
 };
+
+// The approximate atan2 (radians, in [-pi, pi]) that picks a direction's candidate texel, and the bound on its
+// absolute error that the texel search assumes (exposed for tests).
+float environment_atan2_approx(float y, float x);
+float environment_atan2_max_error();
 
 // A plain sky as an equirectangular map: bluish zenith, white horizon, a darker ground. Radiance about 1.
 Texture make_default_sky();
