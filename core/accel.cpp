@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <limits>
 #include <mutex>
 
 namespace pv {
@@ -141,6 +142,11 @@ namespace {
 // Embree's RayK::valid(): every origin and direction component within +-1.844e18 (and not NaN). Debian's Embree
 // asserts on anything else (an abort, e.g. for a framing camera placed beyond a scene whose vertices reach 1.8e18),
 // so such rays hit nothing instead.
+// The smallest normal float, not 0: a hit whose distance is below it (typically one that flushed to zero under FTZ,
+// like a spawned ray's own surface a few denormals away) is not a hit. Rays are spawned from offset origins with
+// tmin "0" (offset_ray_origin), and t = +-0 must not count.
+constexpr float kTnear = std::numeric_limits<float>::min();
+
 inline bool embree_ray_valid(const Ray& ray) {
     constexpr float kLarge = 1.844e18f;
     for (int i = 0; i < 3; ++i)
@@ -160,7 +166,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
     rh.ray.dir_x = ray.d.x;
     rh.ray.dir_y = ray.d.y;
     rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = 0.f;
+    rh.ray.tnear = kTnear;
     rh.ray.tfar = ray.tmax;
     rh.ray.time = 0.f;
     rh.ray.mask = 0xffffffffu;
@@ -188,7 +194,7 @@ bool Accel::occluded(const Ray& ray) const {
     r.dir_x = ray.d.x;
     r.dir_y = ray.d.y;
     r.dir_z = ray.d.z;
-    r.tnear = 0.f;
+    r.tnear = kTnear;
     r.tfar = ray.tmax;
     r.time = 0.f;
     r.mask = 0xffffffffu;

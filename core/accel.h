@@ -30,10 +30,11 @@ public:
     Accel(const Accel&) = delete;
     Accel& operator=(const Accel&) = delete;
 
-    // Closest hit with t in [0, ray.tmax]; false if none. A ray Embree cannot take (a component of o or d beyond
+    // Closest hit with t in [FLT_MIN, ray.tmax] (a hit at t = 0, or one that flushed to 0, is the ray's own
+    // surface); false if none. A ray Embree cannot take (a component of o or d beyond
     // +-1.844e18, or NaN) hits nothing.
     bool intersect(const Ray& ray, Hit& hit) const;
-    // True if anything lies along the ray with t in [0, ray.tmax] (false for a ray Embree cannot take).
+    // True if anything lies along the ray with t in [FLT_MIN, ray.tmax] (false for a ray Embree cannot take).
     bool occluded(const Ray& ray) const;
     const AccelStats& stats() const;
 

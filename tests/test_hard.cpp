@@ -32,10 +32,10 @@ std::shared_ptr<Scene> transformed_cornell(float scale, vec3 translate) {
 
 // Statistically identical images (per-pixel Welch + total mean, independent seeds) for the Cornell box scaled by s
 // or translated by T along (1, 0.6, -0.8) (camera included). The asserted range is the (s = 1e-4..1e4,
-// T up to 1e5). Measured beyond it with the same 16x16, 128 spp comparison (after the offset fix of 205f0db):
-// s = 1e-5 .. 1e6 and T = 3e5 pass; s = 1e-6 (2 of 768 pixel-channels), T = 1e6 (3) and T = 1e7 (66) fail at the
-// box's edges and corners (a float ULP at 1e6 is 0.06 and the 256-ULP offset 16 units of a 556-unit box), and
-// s = 1e8 fails everywhere.
+// T up to 1e5). Measured beyond it with the same 16x16, 128 spp comparison (with the scale-free near-origin offset
+// and tnear = FLT_MIN): s = 1e-8 .. 1e7 and T = 3e5 .. 1e6 pass; T = 1e7 fails (63 of 768 pixel-channels) at the
+// box's edges and corners (a float ULP at 1e7 is 1 unit and the 256-ULP offset 256 units of a 556-unit box), and
+// s = 1e8 fails everywhere (210).
 TEST(Invariance, CornellBoxUnderScaleAndTranslation) {
     RenderSettings base;
     base.sampler = SamplerKind::Independent;  // bounds below use the i.i.d. sample variance
