@@ -32,16 +32,21 @@ inline bool is_finite(vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) 
 inline float safe_sqrt(float x) { return std::sqrt(glm::max(x, 0.f)); }
 inline float sqr(float x) { return x * x; }
 
-// v / |v|, also where |v|^2 overflows or underflows float (huge or tiny triangles): v is then rescaled by its
-// largest component first. 0 for a zero or non-finite v.
-inline vec3 safe_normalize(vec3 v) {
-    const float l2 = glm::dot(v, v);
-    if (std::isnormal(l2)) return v * (1.f / std::sqrt(l2));
+// The rare path of safe_normalize, kept out of line so that the common one inlines.
+[[gnu::cold, gnu::noinline]] inline vec3 normalize_rescaled(vec3 v) {
     if (!is_finite(v)) return vec3(0.f);
     const float m = max_component(glm::abs(v));
     if (!(m > 0.f)) return vec3(0.f);
     const vec3 s = v * (1.f / m);
     return s * (1.f / std::sqrt(glm::dot(s, s)));
+}
+
+// v / |v|, also where |v|^2 overflows or underflows float (huge or tiny triangles): v is then rescaled by its
+// largest component first. 0 for a zero or non-finite v.
+inline vec3 safe_normalize(vec3 v) {
+    const float l2 = glm::dot(v, v);
+    if (std::isnormal(l2)) return v * (1.f / std::sqrt(l2));
+    return normalize_rescaled(v);
 }
 
 // An orthonormal frame around n (+z = n). Construction after Duff et al. 2017,

@@ -18,7 +18,8 @@ struct SurfacePoint {
     float b0;      // barycentric of vertex 0 (hit.u, hit.v are those of vertices 1 and 2)
 };
 
-inline SurfacePoint surface_point(const Scene& s, const Hit& hit) {
+// Always inlined: it is the first thing every path vertex does.
+[[gnu::always_inline]] inline SurfacePoint surface_point(const Scene& s, const Hit& hit) {
     const uvec3 t = s.triangles[hit.prim];
     const vec3 p0 = s.positions[t.x], p1 = s.positions[t.y], p2 = s.positions[t.z];
     SurfacePoint sp;
