@@ -5,8 +5,7 @@
 
 namespace pv {
 
-LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials)
-    : m_scene(&scene), m_materials(&materials) {
+LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials) {
     std::vector<double> power;
     for (uint32_t i = 0; i < scene.triangles.size(); ++i) {
         const Material& m = materials[scene.material_ids[i]];

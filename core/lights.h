@@ -46,8 +46,6 @@ public:
     float total_power() const { return m_total_power; }
 
 private:
-    const Scene* m_scene = nullptr;
-    const std::vector<Material>* m_materials = nullptr;
     std::vector<uint32_t> m_tris;   // emissive triangle indices
     std::vector<float> m_cdf;       // cumulative, normalised; size m_tris.size()
     std::vector<float> m_area;      // per emissive triangle

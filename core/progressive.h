@@ -108,7 +108,6 @@ private:
     bool m_quit = false;
     uint32_t m_target_spp = 0;
     double m_target_seconds = 0.0;
-    bool m_target_reached = false;  // for the generation the driver is rendering
     std::function<void()> m_on_publish;
 
     // The published snapshot, under m_snapshot_mutex; the driver fills m_back outside it.

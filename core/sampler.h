@@ -27,7 +27,7 @@ inline std::optional<SamplerKind> parse_sampler(const std::string& s) {
 class Sampler {
 public:
     explicit Sampler(uint32_t seed = 0, SamplerKind kind = SamplerKind::Independent)
-        : m_seed(seed), m_kind(kind), m_seed_key(hash_combine(0x70617468ull, seed)) {}
+        : m_kind(kind), m_seed_key(hash_combine(0x70617468ull, seed)) {}
 
     // Begins sample `index` of `pixel`; dimensions restart at 0.
     void start(uvec2 pixel, uint32_t index) {
@@ -70,7 +70,6 @@ private:
     // Padding: every draw gets its own shuffle and scramble seeds, so draws are decorrelated (Burley 2020, sec. 4).
     uint64_t draw_seed(uint32_t dim) const { return hash_combine(m_key, dim); }
 
-    uint32_t m_seed;
     SamplerKind m_kind;
     uint64_t m_seed_key;  // hash of the seed, shared by all pixels
     Pcg32 m_rng;
