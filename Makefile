@@ -13,7 +13,7 @@ PACKAGES := build-essential cmake pkg-config ccache libglfw3-dev libimgui-dev li
   libcli11-dev nlohmann-json3-dev openexr xvfb xauth libgl1-mesa-dri xdotool imagemagick x11-apps \
   clang libclang-rt-14-dev
 
-CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release
+CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DPATHVIEW_WERROR=ON
 # ccache: paths below the project are hashed relative to it, so a fresh clone (CI) reuses earlier compilations.
 export CCACHE_BASEDIR := $(CURDIR)
 export CCACHE_NOHASHDIR := 1
@@ -47,7 +47,7 @@ test: test-release test-sanitize test-fuzz
 
 # Sanitizer builds: no viewer, no micro-benchmarks; RelWithDebInfo for readable reports. The ASan+UBSan build uses
 # clang with libFuzzer instrumentation so that the suite and the fuzzer share one build (build-asan-fuzz).
-SAN_FLAGS := -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPATHVIEW_BUILD_UI=OFF -DPATHVIEW_BUILD_MICROBENCH=OFF
+SAN_FLAGS := -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPATHVIEW_BUILD_UI=OFF -DPATHVIEW_BUILD_MICROBENCH=OFF -DPATHVIEW_WERROR=ON
 FUZZ_SECONDS ?= 60
 
 # The suite under ASan+UBSan (suites whose name ends in Slow skipped), then the renderer's threading suites
