@@ -21,6 +21,9 @@ void enable_ftz_daz() {
     _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
 }
 
+ScopedFtzDaz::ScopedFtzDaz() : m_saved(_mm_getcsr()) { enable_ftz_daz(); }
+ScopedFtzDaz::~ScopedFtzDaz() { _mm_setcsr(m_saved); }
+
 namespace {
 
 // Embree reports errors through a callback; we keep the first message and throw after the call returns,

@@ -46,4 +46,17 @@ private:
 // Sets flush-to-zero and denormals-are-zero on the calling thread (Embree's advice for tracing threads).
 void enable_ftz_daz();
 
+// FTZ/DAZ for a scope, then the thread's previous floating-point mode again: code that traces on a thread it does
+// not own (tests, tools) runs in the renderer's mode without changing the caller's.
+class ScopedFtzDaz {
+public:
+    ScopedFtzDaz();
+    ~ScopedFtzDaz();
+    ScopedFtzDaz(const ScopedFtzDaz&) = delete;
+    ScopedFtzDaz& operator=(const ScopedFtzDaz&) = delete;
+
+private:
+    unsigned m_saved;
+};
+
 }  // namespace pv

@@ -16,7 +16,6 @@
 #include "tests/support/stats.h"
 
 #include <gtest/gtest.h>
-#include <xmmintrin.h>
 
 #include <cmath>
 
@@ -522,12 +521,7 @@ TEST(EmbreeIssue416, SpawnedRaysLeaveTheHugeBoxTopBeyondFloatNormalRange) {
 // (measured: 104691 of 244624 shadow rays in the scaled Cornell box, against 47792 truly occluded). Accel's
 // tnear = FLT_MIN rejects it. Breaks with: tnear = 0 in core/accel.cpp.
 TEST(ZeroCoordinateWall, ShadowRaysAreNotOccludedByTheirOwnWallAtHugeScale) {
-    // Trace as the renderer's threads do, with flush-to-zero and denormals-are-zero; restore the mode after.
-    struct FtzScope {
-        unsigned saved = _mm_getcsr();
-        FtzScope() { enable_ftz_daz(); }
-        ~FtzScope() { _mm_setcsr(saved); }
-    } ftz;
+    const ScopedFtzDaz ftz;  // trace as the renderer's threads do, with flush-to-zero and denormals-are-zero
     for (float scale : {1.f, 1e6f, 1e8f}) {
         Scene scene;
         const uint32_t m = test::add_material(scene, Material{});

@@ -99,6 +99,7 @@ Tracer::Tracer(std::shared_ptr<const Scene> scene) : m_scene(std::move(scene)) {
 void Tracer::for_each_sample(const CameraDesc& camera_desc, const RenderSettings& settings, int width, int height,
                              int spp, const std::function<void(int, int, uint32_t, vec3)>& fn,
                              bool pixel_centre) const {
+    const ScopedFtzDaz ftz;  // the renderer's floating-point mode
     const Camera camera(camera_desc, width, height);
     const SceneView v = view();
     Sampler sampler(settings.seed, settings.sampler);

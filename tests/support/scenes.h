@@ -40,7 +40,8 @@ public:
     }
 
     // Calls fn(x, y, index, L) for `spp` samples of every pixel, single-threaded, with the Renderer's samples
-    // (camera_ray, then trace_path). With pixel_centre the camera ray goes through the pixel centre instead.
+    // (camera_ray, then trace_path) and floating-point mode (FTZ/DAZ). With pixel_centre the camera ray goes through
+    // the pixel centre instead.
     void for_each_sample(const CameraDesc& camera, const RenderSettings& settings, int width, int height, int spp,
                          const std::function<void(int, int, uint32_t, vec3)>& fn, bool pixel_centre = false) const;
     // Accumulates for_each_sample into a Film (dropped samples counted into *dropped when given).
