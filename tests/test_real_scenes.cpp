@@ -57,6 +57,7 @@ vec3 radiance_at(const test::Tracer& tracer, float x, float y, uint32_t index) {
     s.light_sampling = false;
     s.russian_roulette = false;
     s.max_depth = 4;
+    const ScopedFtzDaz ftz;  // the renderer's floating-point mode
     Sampler sampler(7);
     sampler.start(uvec2(1, 2), index);
     PathCounters c;
@@ -75,6 +76,7 @@ std::array<Moments, 3> radiance_moments(const test::Tracer& tracer, bool nee, bo
     s.mis = mis;
     s.russian_roulette = false;
     s.max_depth = 1;
+    const ScopedFtzDaz ftz;  // the renderer's floating-point mode
     std::array<Moments, 3> m;
     PathCounters c;
     Sampler sampler(seed, SamplerKind::Independent);

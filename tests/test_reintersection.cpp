@@ -23,6 +23,7 @@ float random_coordinate(Pcg32& g) {
 // Returns the number of spawned rays that re-hit their own triangle, over `triangles` random triangles.
 // scale_per_vertex: every coordinate gets its own magnitude (wild slivers); otherwise one magnitude per triangle.
 int count_reintersections(int triangles, int rays_per_hit, bool scale_per_vertex, uint64_t seed, int* tested) {
+    const ScopedFtzDaz ftz;  // the renderer's floating-point mode
     Pcg32 g(seed, 77);
     int rehits = 0;
     *tested = 0;

@@ -88,6 +88,7 @@ struct CornerRayStats {
 // the other face's plane in double (from the float origin, direction and vertices); rays whose predicted hit lies
 // beyond the finite face are skipped (that is the choice of direction, not a robustness question).
 CornerRayStats trace_corner_rays(const Corner& c, int from, int rays, uint64_t seed) {
+    const ScopedFtzDaz ftz;  // the renderer's floating-point mode
     Scene scene;
     add_corner(scene, c, test::add_material(scene, Material{}));
     const Accel accel(scene);
@@ -219,6 +220,7 @@ struct ShadowCase {
 };
 
 int expect_corner_direct_light(const ShadowCase& sc, bool nee, int samples, double family) {
+    const ScopedFtzDaz ftz;  // the renderer's floating-point mode
     const Corner c = make_corner(sc.angle, sc.scale);
     const double rho = 0.8, l_env = 1.0;
     auto scene = std::make_shared<Scene>();
@@ -345,6 +347,7 @@ struct GrazingStats {
 // from the same floats (triangle_truth); rays whose edge decisions are within float rounding may hit or miss.
 // Elsewhere: no hit outside (false hit), no miss inside; every hit has t within 1e-3 of the truth.
 GrazingStats shoot_skinny_triangles(int triangles, int rays_per_triangle, uint64_t seed) {
+    const ScopedFtzDaz ftz;  // the renderer's floating-point mode
     Pcg32 g(seed, 387);
     GrazingStats st;
     for (int k = 0; k < triangles; ++k) {
@@ -425,6 +428,7 @@ struct HugeBoxStats {
 
 // `rays` rays down onto the top of the box of RenderKit/embree#416 with half-width `extent`; see below.
 HugeBoxStats shoot_huge_box(double extent, int rays, uint64_t seed) {
+    const ScopedFtzDaz ftz;  // the renderer's floating-point mode
     Pcg32 g(seed, 416);
     Scene scene;
     scene.materials.push_back(Material{});
