@@ -111,6 +111,11 @@ private:
     // Renders `scene` from now on with `renderer` (built for it; the old one is joined): its camera, materials,
     // environment and bookmarks.
     void use_scene(std::shared_ptr<const Scene> scene, std::unique_ptr<ProgressiveRenderer> renderer);
+    struct LoadedScene;
+    // Loads a scene and builds its renderer (the BVH) on another thread; wakes the UI loop when it ends.
+    static std::future<LoadedScene> load_async(std::function<Scene()> load, int threads);
+    // Loads the scene of the command line in the background while the window shows a loading screen.
+    LoadedScene load_first_scene();
     // Starts loading the scene the panel names in the background (parse and BVH build off the UI thread, so the
     // window stays responsive and the current scene keeps rendering).
     void load_scene(double now);
@@ -171,13 +176,11 @@ private:
 };
 
 Viewer::Viewer(const ViewerOptions& o) : m_opt(o), m_log(o.log_file) {
-    m_scene = std::make_shared<const Scene>(o.load_scene());
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-    const std::string title = "pathview - " + std::filesystem::path(m_scene->source).filename().string();
-    m_window = glfwCreateWindow(o.width + int(kPanelWidth), o.height, title.c_str(), nullptr, nullptr);
+    m_window = glfwCreateWindow(o.width + int(kPanelWidth), o.height, "pathview - loading", nullptr, nullptr);
     if (!m_window) throw Error("cannot create an OpenGL 3.3 core window: " + g_glfw_error);
     glfwMakeContextCurrent(m_window);
     glfwSwapInterval(1);
@@ -187,14 +190,55 @@ Viewer::Viewer(const ViewerOptions& o) : m_opt(o), m_log(o.log_file) {
     if (const GLFWvidmode* mode = glfwGetVideoMode(glfwGetPrimaryMonitor()); mode && mode->refreshRate > 0)
         m_refresh_hz = mode->refreshRate;
 
+    LoadedScene first = load_first_scene();
     m_saver = std::make_unique<SnapshotSaver>(o.snapshot_dir, [] { glfwPostEmptyEvent(); });
     m_state.settings = o.settings;
     m_state.snapshot_dir = o.snapshot_dir;
-    m_state.scene_path = m_scene->source;
-    use_scene(m_scene, std::make_unique<ProgressiveRenderer>(m_scene, o.threads));
+    m_state.scene_path = first.scene->source;
+    use_scene(std::move(first.scene), std::move(first.renderer));
     m_log.line("start scene=%s triangles=%zu threads=%d gl=\"%s\" refresh_hz=%.0f", m_scene->source.c_str(),
                m_scene->triangle_count(), m_renderer->threads(),
                reinterpret_cast<const char*>(glGetString(GL_RENDERER)), m_refresh_hz);
+}
+
+std::future<Viewer::LoadedScene> Viewer::load_async(std::function<Scene()> load, int threads) {
+    return std::async(std::launch::async, [load = std::move(load), threads] {
+        struct Wake {  // wakes the UI loop when the load ends, also by an exception
+            ~Wake() { glfwPostEmptyEvent(); }
+        } wake;
+        LoadedScene loaded;
+        loaded.scene = std::make_shared<const Scene>(load());
+        loaded.renderer = std::make_unique<ProgressiveRenderer>(loaded.scene, threads);  // builds the BVH
+        return loaded;
+    });
+}
+
+Viewer::LoadedScene Viewer::load_first_scene() {
+    // Parse and BVH build on another thread; the window says what it is doing meanwhile and stays responsive.
+    const double start = glfwGetTime();
+    std::future<LoadedScene> loading = load_async(m_opt.load_scene, m_opt.threads);
+    while (loading.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+        int fb_w = 0, fb_h = 0;
+        glfwGetFramebufferSize(m_window, &fb_w, &fb_h);
+        glViewport(0, 0, fb_w, fb_h);
+        glClearColor(0.08f, 0.08f, 0.08f, 1.f);
+        glClear(GL_COLOR_BUFFER_BIT);
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        ImGui::SetNextWindowPos(ImVec2(16.f, 16.f));
+        ImGui::Begin("pathview", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
+                                               ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings);
+        ImGui::Text("loading the scene and building its BVH ... %.1f s", glfwGetTime() - start);
+        ImGui::End();
+        ImGui::Render();
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        glfwSwapBuffers(m_window);
+        glfwWaitEventsTimeout(0.1);  // redraw the elapsed time; the load's end wakes it at once
+    }
+    m_input = InputQueue{};  // input given to the loading screen does not move the camera afterwards,
+    m_input.any = true;      // but the first frame is drawn at once
+    return loading.get();    // a load error propagates: one line naming the file, and a non-zero exit
 }
 
 void Viewer::use_scene(std::shared_ptr<const Scene> scene, std::unique_ptr<ProgressiveRenderer> renderer) {
@@ -235,15 +279,7 @@ void Viewer::load_scene(double) {
     m_state.scene_status = "loading " + path + " ...";
     m_state.scene_ok = true;
     m_log.line("scene-loading path=%s", path.c_str());
-    m_loading = std::async(std::launch::async, [path, threads] {
-        struct Wake {  // wakes the UI loop when the load ends, also by an exception
-            ~Wake() { glfwPostEmptyEvent(); }
-        } wake;
-        LoadedScene loaded;
-        loaded.scene = std::make_shared<const Scene>(pv::load_scene(path));
-        loaded.renderer = std::make_unique<ProgressiveRenderer>(loaded.scene, threads);  // builds the BVH
-        return loaded;
-    });
+    m_loading = load_async([path] { return pv::load_scene(path); }, threads);
 }
 
 void Viewer::poll_loading(double now) {
