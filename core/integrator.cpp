@@ -109,13 +109,13 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         };
 
         // The bounce's draws, taken together so that their independent hash chains overlap; only those the
-        // vertex uses (one-lobe BSDFs need no lobe draw, delta ones no light draws), in dimension order.
+        // vertex uses (one-lobe BSDFs need no lobe draw, delta ones no light or direction draws), in dimension order.
         const bool do_nee = nee && !is_delta(*bsdf);
         const float u_light_select = do_nee && !env_only ? sampler.get1d_at(dim) : 0.f;
         const vec2 u_light = do_nee ? sampler.get2d_at(dim + 1) : vec2(0.f);
         const bool one_lobe = std::holds_alternative<Lambertian>(*bsdf) || std::holds_alternative<Mirror>(*bsdf);
         const float u_lobe = one_lobe ? 0.5f : sampler.get1d_at(dim + 2);
-        const vec2 u_bsdf = sampler.get2d_at(dim + 3);
+        const vec2 u_bsdf = is_delta(*bsdf) ? vec2(0.5f) : sampler.get2d_at(dim + 3);  // delta lobes ignore it
 
         // Next-event estimation.
         if (do_nee) {

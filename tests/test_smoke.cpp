@@ -1,6 +1,7 @@
 // tests/test_smoke.cpp: the built-in Cornell box loads and renders a finite image.
 #include "core/renderer.h"
 #include "core/scene_file.h"
+#include "tests/support/scenes.h"
 
 #include <gtest/gtest.h>
 
@@ -12,13 +13,7 @@ TEST(Smoke, CornellBoxRendersFiniteImage) {
     Renderer r(scene, 2);
     r.restart(scene->camera, RenderSettings{}, 32, 32);
     ASSERT_TRUE(r.render_pass());
-    const Image img = r.film().mean();
-    double sum = 0;
-    for (float v : img.rgb) {
-        ASSERT_TRUE(std::isfinite(v));
-        sum += v;
-    }
-    EXPECT_GT(sum, 0.0);
+    test::expect_finite_and_lit(r.film().mean());
     EXPECT_EQ(r.stats().dropped, 0u);
 }
 

@@ -4,6 +4,9 @@
 #include "core/renderer.h"
 #include "core/scene_file.h"
 
+#include <gtest/gtest.h>
+
+#include <cmath>
 #include <map>
 #include <mutex>
 
@@ -137,6 +140,15 @@ std::shared_ptr<const Scene> cornell_box() {
     std::lock_guard<std::mutex> lock(mutex);
     if (!scene) scene = std::make_shared<Scene>(load_scene(builtin_scene_path()));
     return scene;
+}
+
+void expect_finite_and_lit(const Image& img) {
+    double sum = 0.0;
+    for (float v : img.rgb) {
+        ASSERT_TRUE(std::isfinite(v));
+        sum += v;
+    }
+    EXPECT_GT(sum, 0.0);
 }
 
 }  // namespace pv::test

@@ -56,6 +56,9 @@ private:
 };
 
 // Renders through the Renderer (threads workers, spp passes) and returns its film.
+// Every pixel of `img` is finite and the image is not all black (a render smoke check).
+void expect_finite_and_lit(const Image& img);
+
 Film render_with_renderer(std::shared_ptr<const Scene> scene, const CameraDesc& camera, const RenderSettings& settings,
                           int width, int height, int spp, int threads = 2, uint64_t* dropped = nullptr);
 
