@@ -1,0 +1,298 @@
+// tests/gui/test_ui_rooms.cpp: the viewer's window-free rooms: gestures -> camera (navigation.h), the refinement
+// schedule (refinement.h) and background scene loads (scene_loader.h). Needs no display.
+#include "navigation.h"
+#include "refinement.h"
+#include "scene_loader.h"
+
+#include "core/error.h"
+#include "core/scene_file.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+namespace pv::ui {
+namespace {
+
+CameraDesc test_camera() { return CameraDesc{vec3(0.f, 0.f, 10.f), vec3(0.f), vec3(0.f, 1.f, 0.f), 40.f}; }
+
+// A 400x300 image region; every pick hits material 3 at (1, 2, 3).
+struct NavFixture {
+    ViewLog log{""};
+    Navigation nav{log};
+    CameraController camera{test_camera(), vec3(-1.f), vec3(1.f)};
+    ViewState state;
+    InputQueue input;
+    NavigationFrame frame;
+    int picks = 0;
+    NavFixture() {
+        frame.image_size = vec2(400.f, 300.f);
+        frame.window_height = 300;
+        frame.pick = [this](vec2) {
+            ++picks;
+            PickResult r;
+            r.triangle = 7;
+            r.material = 3;
+            r.position = vec3(1.f, 2.f, 3.f);
+            return std::optional<PickResult>(r);
+        };
+    }
+    void button(int b, int action, vec2 pos, double time, int mods = 0) {
+        input.buttons.push_back({b, action, mods, pos, time});
+    }
+    NavigationResult frame_once(PanelActions& act) { return nav.handle(input, frame, camera, state, act); }
+};
+
+}  // namespace
+
+TEST(ViewerNavigation, LeftDragOrbitsAboutTheTarget) {
+    NavFixture f;
+    PanelActions act;
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, vec2(100.f, 100.f), 0.0);
+    f.frame.cursor = vec2(160.f, 100.f);  // held and moved 60 px
+    const NavigationResult r = f.frame_once(act);
+    EXPECT_TRUE(r.camera_moved);
+    EXPECT_TRUE(f.nav.dragging());
+    EXPECT_EQ(f.camera.desc().target, vec3(0.f));
+    EXPECT_GT(std::fabs(f.camera.desc().eye.x), 1.f);
+    EXPECT_EQ(f.picks, 0);  // a drag is no click
+    EXPECT_TRUE(f.input.buttons.empty());
+}
+
+TEST(ViewerNavigation, ShiftDragPansAndMiddleDragPans) {
+    for (const bool shift : {true, false}) {
+        NavFixture f;
+        PanelActions act;
+        f.button(shift ? GLFW_MOUSE_BUTTON_LEFT : GLFW_MOUSE_BUTTON_MIDDLE, GLFW_PRESS, vec2(100.f, 100.f), 0.0,
+                 shift ? GLFW_MOD_SHIFT : 0);
+        f.frame.cursor = vec2(150.f, 100.f);
+        EXPECT_TRUE(f.frame_once(act).camera_moved);
+        EXPECT_LT(f.camera.desc().target.x, 0.f);  // the target moved with the eye
+        EXPECT_NEAR(f.camera.desc().target.x, f.camera.desc().eye.x, 1e-4f);
+    }
+}
+
+TEST(ViewerNavigation, PressesImGuiWantsOrOutsideTheImageStartNoDrag) {
+    NavFixture f;
+    PanelActions act;
+    f.frame.imgui_wants_mouse = true;
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, vec2(100.f, 100.f), 0.0);
+    f.frame.cursor = vec2(200.f, 100.f);
+    EXPECT_FALSE(f.frame_once(act).camera_moved);
+    f.frame.imgui_wants_mouse = false;
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, vec2(450.f, 100.f), 0.1);  // on the panel, right of the image
+    f.frame.cursor = vec2(350.f, 100.f);
+    EXPECT_FALSE(f.frame_once(act).camera_moved);
+    EXPECT_EQ(f.camera.desc().eye, test_camera().eye);
+}
+
+TEST(ViewerNavigation, ClickSelectsDoubleClickRetargets) {
+    NavFixture f;
+    PanelActions act;
+    // A press and release 2 px apart (under the slop) is a click: select the material under it.
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, vec2(100.f, 100.f), 1.0);
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, vec2(102.f, 100.f), 1.05);
+    f.frame.cursor = vec2(102.f, 100.f);
+    EXPECT_FALSE(f.frame_once(act).camera_moved);
+    EXPECT_EQ(f.state.selected_material, 3);
+    EXPECT_EQ(f.picks, 1);
+    // A second click within kDoubleClickSeconds at the same place re-targets the orbit.
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, vec2(101.f, 100.f), 1.2);
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, vec2(101.f, 100.f), 1.25);
+    EXPECT_TRUE(f.frame_once(act).camera_moved);
+    EXPECT_EQ(f.camera.desc().target, vec3(1.f, 2.f, 3.f));
+    // A third click is a single click again (the double click consumed the pair), even if quick.
+    f.state.selected_material = -1;
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, vec2(101.f, 100.f), 1.3);
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, vec2(101.f, 100.f), 1.31);
+    f.frame_once(act);
+    EXPECT_EQ(f.state.selected_material, 3);
+    // Too late for a double click: a single one.
+    f.state.selected_material = -1;
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, vec2(101.f, 100.f), 1.3 + Navigation::kDoubleClickSeconds + 0.01);
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, vec2(101.f, 100.f), 1.3 + Navigation::kDoubleClickSeconds + 0.02);
+    EXPECT_FALSE(f.frame_once(act).camera_moved);
+    EXPECT_EQ(f.state.selected_material, 3);
+}
+
+TEST(ViewerNavigation, PickFocusClickSetsTheFocusPlaneOnce) {
+    NavFixture f;
+    PanelActions act;
+    f.state.pick_focus = true;
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, vec2(100.f, 100.f), 0.0);
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, vec2(100.f, 100.f), 0.01);
+    EXPECT_TRUE(f.frame_once(act).camera_moved);
+    EXPECT_FALSE(f.state.pick_focus);
+    EXPECT_GT(f.camera.desc().focus_distance, 0.f);
+    EXPECT_EQ(f.state.selected_material, -1);  // focusing selects nothing
+}
+
+TEST(ViewerNavigation, WheelDollyOnlyOverTheImage) {
+    NavFixture f;
+    PanelActions act;
+    f.input.scroll = 1.f;
+    f.frame.cursor = vec2(500.f, 10.f);  // over the panel
+    EXPECT_FALSE(f.frame_once(act).camera_moved);
+    EXPECT_EQ(f.input.scroll, 0.f);  // consumed anyway
+    f.input.scroll = 1.f;
+    f.frame.cursor = vec2(200.f, 150.f);
+    EXPECT_TRUE(f.frame_once(act).camera_moved);
+    EXPECT_LT(glm::length(f.camera.desc().eye - f.camera.desc().target), 10.f);
+}
+
+TEST(ViewerNavigation, ShortcutsRespectImGuiKeyboardFocus) {
+    NavFixture f;
+    PanelActions act;
+    f.frame.imgui_wants_keyboard = true;
+    f.input.keys = {{GLFW_KEY_F, 0}, {GLFW_KEY_P, 0}, {GLFW_KEY_S, GLFW_MOD_CONTROL}};
+    NavigationResult r = f.frame_once(act);
+    EXPECT_TRUE(act.save);  // Ctrl+S works while typing
+    EXPECT_FALSE(act.frame_all);
+    EXPECT_FALSE(f.state.paused);
+    EXPECT_FALSE(r.quit);
+    EXPECT_TRUE(f.input.keys.empty());
+    f.frame.imgui_wants_keyboard = false;
+    PanelActions act2;
+    f.input.keys = {{GLFW_KEY_P, 0}, {GLFW_KEY_R, 0}, {GLFW_KEY_Q, GLFW_MOD_CONTROL}};
+    r = f.frame_once(act2);
+    EXPECT_TRUE(f.state.paused);
+    EXPECT_TRUE(act2.control_changed);
+    EXPECT_TRUE(act2.reset_camera);
+    EXPECT_TRUE(r.quit);
+}
+
+TEST(ViewerNavigation, HeldFlyKeysMoveByElapsedTime) {
+    NavFixture f;
+    PanelActions act;
+    f.camera.fly_speed = 2.f;
+    f.input.fly_down[0] = true;  // W: forward
+    f.frame.dt = 0.5;
+    EXPECT_TRUE(f.frame_once(act).camera_moved);
+    EXPECT_NEAR(f.camera.desc().eye.z, 9.f, 1e-5f);
+    f.frame.dt = 0.0;  // the first frame has no elapsed time: no move
+    EXPECT_FALSE(f.frame_once(act).camera_moved);
+    EXPECT_TRUE(f.input.fly_down[0]);  // held state is not consumed
+}
+
+TEST(ViewerRefinement, RestartsCoarseAndRefinesAtRest) {
+    RefinementSchedule s;
+    auto r = s.coarse("initial", 0.0);
+    EXPECT_EQ(s.level(), RefinementSchedule::kCoarsestLevel);
+    s.posted(1, r, 0.0);
+    // The first pass has not landed: no refinement however long we wait.
+    EXPECT_FALSE(s.update("", 5.0, 5.0, 0, 0));
+    // Landed, but not yet at rest.
+    s.posted(2, *s.update("camera", 0.0, 0.0, 1, 1), 0.0);  // shown 1 of posted 1: not in flight, no deferral
+    EXPECT_FALSE(s.update("", RefinementSchedule::kRestSeconds / 2, 0.0, 2, 1));
+    // At rest and shown: 4 -> 2 -> 1, then nothing more.
+    double t = 1.0;
+    auto refine = s.update("", t, t, 2, 1);
+    ASSERT_TRUE(refine);
+    EXPECT_EQ(refine->reason, "refine");
+    EXPECT_EQ(s.level(), 2);
+    s.posted(3, *refine, t);
+    EXPECT_FALSE(s.update("", t + 1.0, t + 1.0, 2, 5));  // the shown pass is of an older request
+    refine = s.update("", t + 1.0, t + 1.0, 3, 1);
+    ASSERT_TRUE(refine);
+    EXPECT_EQ(s.level(), 1);
+    s.posted(4, *refine, t + 1.0);
+    EXPECT_FALSE(s.update("", t + 9.0, t + 9.0, 4, 100));
+    EXPECT_EQ(s.level(), 1);
+}
+
+TEST(ViewerRefinement, CameraMoveWaitsForTheCoarsePassInFlight) {
+    RefinementSchedule s;
+    s.posted(1, s.coarse("initial", 0.0), 0.0);
+    // The coarse pass of generation 1 is in flight (nothing shown yet): a camera move is deferred.
+    EXPECT_FALSE(s.update("camera", 0.05, 0.04, 0, 0));
+    EXPECT_TRUE(s.deferred());
+    EXPECT_FALSE(s.update("camera", 0.06, 0.06, 0, 0));
+    EXPECT_NEAR(s.wait_timeout(0.5, 0.5), RefinementSchedule::kMaxDeferSeconds - 0.5, 1e-12);
+    // The pass lands: the move is posted, its latency counted from the first deferred event.
+    const auto r = s.update("", 0.1, 0.1, 1, 1);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->reason, "camera");
+    EXPECT_DOUBLE_EQ(r->since, 0.04);
+    EXPECT_FALSE(s.deferred());
+    EXPECT_EQ(s.wait_timeout(0.2, 0.5), 0.5);
+}
+
+TEST(ViewerRefinement, DeferralEndsAfterMaxDeferAndOtherChangesNeverWait) {
+    RefinementSchedule s;
+    s.posted(1, s.coarse("initial", 0.0), 0.0);
+    EXPECT_FALSE(s.update("camera", 0.1, 0.1, 0, 0));
+    EXPECT_FALSE(s.deferral_expired(0.5));
+    EXPECT_TRUE(s.deferral_expired(RefinementSchedule::kMaxDeferSeconds));
+    // The pass never landed, but the wait is over: the move goes out.
+    const auto r = s.update("", RefinementSchedule::kMaxDeferSeconds + 0.01, 1.0, 0, 0);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->reason, "camera");
+    s.posted(2, *r, RefinementSchedule::kMaxDeferSeconds + 0.01);
+    // A material edit (or camera plus anything) is posted at once, pass in flight or not.
+    const auto m = s.update("camera,material", 1.1, 1.1, 1, 1);
+    ASSERT_TRUE(m);
+    EXPECT_EQ(m->reason, "camera,material");
+}
+
+TEST(ViewerRefinement, CameraMoveAtAFinerLevelRestartsAtOnce) {
+    RefinementSchedule s;
+    s.posted(1, s.coarse("initial", 0.0), 0.0);
+    s.posted(2, *s.update("", 1.0, 1.0, 1, 1), 1.0);  // refined to 1/2, its pass in flight
+    EXPECT_EQ(s.level(), 2);
+    const auto r = s.update("camera", 1.05, 1.05, 1, 1);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(s.level(), RefinementSchedule::kCoarsestLevel);
+}
+
+TEST(ViewerRefinement, ShownFramesCompletePendingRequestsInOrder) {
+    RefinementSchedule s;
+    s.posted(1, {"initial", 0.0}, 0.0);
+    s.posted(2, {"camera", 0.5}, 0.6);
+    s.posted(3, {"camera", 0.7}, 0.8);
+    EXPECT_TRUE(s.shown(0).empty());
+    const auto done = s.shown(2);
+    ASSERT_EQ(done.size(), 2u);
+    EXPECT_EQ(done[0].generation, 1u);
+    EXPECT_EQ(done[1].reason, "camera");
+    EXPECT_DOUBLE_EQ(done[1].since, 0.5);
+    s.reset();  // a new renderer: nothing pending, generations from 1 again
+    EXPECT_TRUE(s.shown(99).empty());
+    EXPECT_EQ(s.posted_generation(), 0u);
+}
+
+namespace {
+// Waits (bounded) until the loader's job has ended.
+bool wait_ready(const SceneLoader& loader) {
+    for (int i = 0; i < 3000 && !loader.ready(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    return loader.ready();
+}
+}  // namespace
+
+TEST(ViewerSceneLoader, LoadsOffThreadAndWakesOnce) {
+    std::atomic<int> wakes{0};
+    SceneLoader loader([&] { ++wakes; });
+    EXPECT_FALSE(loader.busy());
+    ASSERT_TRUE(loader.start([] { return load_scene(builtin_scene_path()); }, 1));
+    EXPECT_FALSE(loader.start([] { return Scene{}; }, 1));  // one load at a time
+    ASSERT_TRUE(wait_ready(loader));
+    LoadedScene loaded = loader.take();
+    ASSERT_TRUE(loaded.scene && loaded.renderer);
+    EXPECT_GT(loaded.scene->triangle_count(), 0u);
+    EXPECT_EQ(wakes.load(), 1);
+    EXPECT_FALSE(loader.busy());
+}
+
+TEST(ViewerSceneLoader, ErrorsReachTheTakerAndStillWake) {
+    std::atomic<int> wakes{0};
+    SceneLoader loader([&] { ++wakes; });
+    ASSERT_TRUE(loader.start([]() -> Scene { throw Error("missing.obj: cannot open"); }, 1));
+    ASSERT_TRUE(wait_ready(loader));
+    EXPECT_THROW(loader.take(), Error);
+    EXPECT_EQ(wakes.load(), 1);
+    EXPECT_TRUE(loader.start([] { return load_scene(builtin_scene_path()); }, 1));  // usable again
+    loader.wait();
+}
+
+}  // namespace pv::ui

@@ -1,0 +1,29 @@
+// ui/frame_stats.h: the viewer's telemetry: UI frame times (wall and the UI thread's CPU time) gathered per frame,
+// and the once-a-second "stats" line of the --log-file with the accumulation on screen (the GUI test and
+// tests/gui/measure_viewer.sh read it). Window-free.
+#pragma once
+
+#include "view_log.h"
+
+#include "core/progressive.h"
+
+namespace pv::ui {
+
+class FrameStats {
+public:
+    void begin_frame();
+    void end_frame(double wall_ms);
+    double last_ms() const { return m_last_ms; }
+    int total_frames() const { return m_total; }
+    // Writes the stats line when a second has passed since the last one, then starts a new second.
+    void log_if_due(ViewLog& log, const Snapshot& shown);
+
+private:
+    double m_since = -1.0;  // log time of the last stats line
+    double m_cpu_start = 0.0;
+    int m_frames = 0, m_total = 0;
+    double m_ms_sum = 0.0, m_ms_max = 0.0, m_last_ms = 0.0;
+    double m_cpu_ms_sum = 0.0;  // CPU time of the UI thread (Mesa's llvmpipe threads not included)
+};
+
+}  // namespace pv::ui
