@@ -2,6 +2,8 @@
 // light, camera (with bookmarks), materials, snapshots, scene.
 #include "panel.h"
 
+#include "core/material_params.h"
+
 #include <imgui.h>
 
 #include <cfloat>
@@ -20,62 +22,21 @@ void status_text(const std::string& text, bool ok) {
     if (!ok) ImGui::PopStyleColor();
 }
 
-// The editable face of a Bsdf: type index (diffuse, glossy, mirror, glass) and its parameters.
-struct MaterialFields {
-    int type = 0;
-    vec3 base{0.8f};
-    vec3 specular{0.04f};
-    float roughness = 0.2f;
-    float ior = 1.5f;
-};
-
-MaterialFields fields_of(const Bsdf& bsdf) {
-    MaterialFields f;
-    if (const auto* l = std::get_if<Lambertian>(&bsdf)) {
-        f.type = 0;
-        f.base = l->albedo;
-    } else if (const auto* g = std::get_if<Glossy>(&bsdf)) {
-        f.type = 1;
-        f.base = g->diffuse;
-        f.specular = g->specular;
-        f.roughness = g->alpha;
-    } else if (const auto* m = std::get_if<Mirror>(&bsdf)) {
-        f.type = 2;
-        f.base = m->reflectance;
-    } else if (const auto* d = std::get_if<Dielectric>(&bsdf)) {
-        f.type = 3;
-        f.ior = d->eta;
-    }
-    return f;
-}
-
-Bsdf bsdf_of(const MaterialFields& f) {
-    switch (f.type) {
-    case 1: {
-        // Keep diffuse + specular <= 1 per channel, as the loader does, so the albedo stays <= 1.
-        Glossy g;
-        g.specular = glm::clamp(f.specular, vec3(0.f), vec3(1.f));
-        g.diffuse = glm::min(glm::clamp(f.base, vec3(0.f), vec3(1.f)), vec3(1.f) - g.specular);
-        g.alpha = glm::clamp(f.roughness, kMinAlpha, 1.f);
-        return g;
-    }
-    case 2: return Mirror{glm::clamp(f.base, vec3(0.f), vec3(1.f))};
-    case 3: return Dielectric{std::max(f.ior, 1.0001f)};
-    default: return Lambertian{glm::clamp(f.base, vec3(0.f), vec3(1.f))};
-    }
-}
-
 // Edits one material; true if it changed.
 bool edit_material(Material& m) {
-    MaterialFields f = fields_of(m.bsdf);
-    bool changed = ImGui::Combo("type", &f.type, "diffuse\0glossy\0mirror\0glass\0");
-    if (f.type != 3) changed |= ImGui::ColorEdit3(f.type == 2 ? "reflectance" : "base colour", &f.base.x, ImGuiColorEditFlags_Float);
-    if (f.type == 1) {
+    BsdfParams f = bsdf_params(m.bsdf);
+    int type = int(f.type);
+    bool changed = ImGui::Combo("type", &type, "diffuse\0glossy\0mirror\0glass\0");
+    f.type = BsdfType(type);
+    if (f.type != BsdfType::Glass)
+        changed |= ImGui::ColorEdit3(f.type == BsdfType::Mirror ? "reflectance" : "base colour", &f.base.x,
+                                     ImGuiColorEditFlags_Float);
+    if (f.type == BsdfType::Glossy) {
         changed |= ImGui::ColorEdit3("specular", &f.specular.x, ImGuiColorEditFlags_Float);
         changed |= ImGui::SliderFloat("roughness", &f.roughness, kMinAlpha, 1.f, "%.3f", ImGuiSliderFlags_Logarithmic);
     }
-    if (f.type == 3) changed |= ImGui::SliderFloat("IOR", &f.ior, 1.0001f, 3.f, "%.3f");
-    if (changed) m.bsdf = bsdf_of(f);
+    if (f.type == BsdfType::Glass) changed |= ImGui::SliderFloat("IOR", &f.ior, 1.0001f, 3.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+    if (changed) m.bsdf = make_bsdf(f);
 
     // Emission as a colour (largest channel 1) times a strength.
     float strength = max_component(m.emission);

@@ -1,0 +1,57 @@
+// core/material_params.cpp: parameters <-> Bsdf (see material_params.h).
+#include "core/material_params.h"
+
+namespace pv {
+
+BsdfParams bsdf_params(const Bsdf& bsdf) {
+    BsdfParams p;
+    if (const auto* l = std::get_if<Lambertian>(&bsdf)) {
+        p.type = BsdfType::Diffuse;
+        p.base = l->albedo;
+    } else if (const auto* g = std::get_if<Glossy>(&bsdf)) {
+        p.type = BsdfType::Glossy;
+        p.base = g->diffuse;
+        p.specular = g->specular;
+        p.roughness = g->alpha;
+    } else if (const auto* m = std::get_if<Mirror>(&bsdf)) {
+        p.type = BsdfType::Mirror;
+        p.base = p.specular = m->reflectance;
+    } else if (const auto* d = std::get_if<Dielectric>(&bsdf)) {
+        p.type = BsdfType::Glass;
+        p.ior = d->eta;
+    }
+    return p;
+}
+
+Bsdf make_bsdf(const BsdfParams& p) {
+    auto unit = [](vec3 c) {
+        // NaN fails both comparisons of clamp; map it to 0 explicitly.
+        return vec3(std::isfinite(c.x) ? glm::clamp(c.x, 0.f, 1.f) : 0.f, std::isfinite(c.y) ? glm::clamp(c.y, 0.f, 1.f) : 0.f,
+                    std::isfinite(c.z) ? glm::clamp(c.z, 0.f, 1.f) : 0.f);
+    };
+    switch (p.type) {
+    case BsdfType::Glossy: {
+        Glossy g;
+        g.specular = unit(p.specular);
+        g.diffuse = glm::min(unit(p.base), vec3(1.f) - g.specular);
+        g.alpha = std::isfinite(p.roughness) ? glm::clamp(p.roughness, kMinAlpha, 1.f) : 1.f;
+        return g;
+    }
+    case BsdfType::Mirror: return Mirror{unit(p.base)};
+    case BsdfType::Glass: return Dielectric{std::isfinite(p.ior) && p.ior > 0.f ? p.ior : 1.5f};
+    case BsdfType::Diffuse: break;
+    }
+    return Lambertian{unit(p.base)};
+}
+
+bool parse_bsdf_type(const std::string& name, BsdfType& out) {
+    static const char* const names[] = {"diffuse", "glossy", "mirror", "glass"};
+    for (int i = 0; i < 4; ++i)
+        if (name == names[i]) {
+            out = BsdfType(i);
+            return true;
+        }
+    return false;
+}
+
+}  // namespace pv

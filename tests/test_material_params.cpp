@@ -1,0 +1,82 @@
+// tests/test_material_params.cpp: the one parameters <-> Bsdf conversion (core/material_params.h) keeps core/bsdf.h's
+// promises for any input, and round-trips what it accepts.
+#include "core/material_params.h"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+namespace pv {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+}  // namespace
+
+TEST(MaterialParams, GlossyKeepsDiffusePlusSpecularAtMostOne) {
+    BsdfParams p;
+    p.type = BsdfType::Glossy;
+    p.base = vec3(0.9f, 2.f, -1.f);
+    p.specular = vec3(0.5f, 0.3f, 1.5f);
+    p.roughness = 5.f;
+    const Glossy g = std::get<Glossy>(make_bsdf(p));
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_GE(g.diffuse[c], 0.f);
+        EXPECT_GE(g.specular[c], 0.f);
+        EXPECT_LE(g.diffuse[c] + g.specular[c], 1.f);
+    }
+    EXPECT_EQ(g.specular, vec3(0.5f, 0.3f, 1.f));
+    EXPECT_EQ(g.diffuse, vec3(0.5f, 0.7f, 0.f));
+    EXPECT_EQ(g.alpha, 1.f);
+    p.roughness = 0.f;
+    EXPECT_EQ(std::get<Glossy>(make_bsdf(p)).alpha, kMinAlpha);
+}
+
+TEST(MaterialParams, NonFiniteInputsGiveValidBsdfs) {
+    BsdfParams p;
+    p.base = vec3(kNaN, kInf, -kInf);
+    p.specular = vec3(kNaN);
+    p.roughness = kNaN;
+    p.ior = kNaN;
+    for (BsdfType t : {BsdfType::Diffuse, BsdfType::Glossy, BsdfType::Mirror, BsdfType::Glass}) {
+        p.type = t;
+        const BsdfParams back = bsdf_params(make_bsdf(p));
+        EXPECT_EQ(back.type, t);
+        EXPECT_TRUE(is_finite(back.base) && is_finite(back.specular));
+        EXPECT_TRUE(std::isfinite(back.roughness) && std::isfinite(back.ior) && back.ior > 0.f);
+        for (int c = 0; c < 3; ++c) EXPECT_LE(back.base[c] + (t == BsdfType::Glossy ? back.specular[c] : 0.f), 1.f);
+    }
+}
+
+TEST(MaterialParams, RoundTripsValidParameters) {
+    for (BsdfType t : {BsdfType::Diffuse, BsdfType::Glossy, BsdfType::Mirror, BsdfType::Glass}) {
+        BsdfParams p;
+        p.type = t;
+        p.base = vec3(0.25f, 0.5f, 0.125f);
+        p.specular = t == BsdfType::Mirror ? p.base : vec3(0.5f, 0.25f, 0.75f);
+        p.roughness = 0.3f;
+        p.ior = 1.33f;
+        const Bsdf b = make_bsdf(p);
+        static const char* const kNames[] = {"diffuse", "glossy", "mirror", "glass"};
+        EXPECT_STREQ(bsdf_type_name(b), kNames[int(t)]);
+        BsdfType parsed;
+        ASSERT_TRUE(parse_bsdf_type(bsdf_type_name(b), parsed));
+        EXPECT_EQ(parsed, t);
+        const BsdfParams q = bsdf_params(b);
+        if (t != BsdfType::Glass) {
+            EXPECT_EQ(q.base, p.base);
+        }
+        if (t == BsdfType::Glossy) {
+            EXPECT_EQ(q.specular, p.specular);
+            EXPECT_EQ(q.roughness, p.roughness);
+        }
+        if (t == BsdfType::Glass) {
+            EXPECT_EQ(q.ior, p.ior);
+        }
+    }
+    BsdfType unused;
+    EXPECT_FALSE(parse_bsdf_type("plastic", unused));
+}
+
+}  // namespace pv
