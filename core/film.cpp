@@ -53,6 +53,28 @@ std::optional<double> pixel_rel_mse(const FilmPixel& px) {
     return acc / 3.0;
 }
 
+double Film::views_into(std::vector<float>& rgb, std::vector<float>& rel_error, std::vector<float>& samples) const {
+    const size_t n = m_pixels.size();
+    rgb.resize(n * 3);
+    rel_error.resize(n);
+    samples.resize(n);
+    double acc = 0.0;
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const FilmPixel& px = m_pixels[i];
+        const double inv = px.n ? 1.0 / px.n : 0.0;
+        for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = static_cast<float>(px.sum[c] * inv);
+        const std::optional<double> e = pixel_rel_mse(px);
+        rel_error[i] = e ? static_cast<float>(std::sqrt(*e)) : 0.f;
+        samples[i] = static_cast<float>(px.n);
+        if (e) {
+            acc += *e;
+            ++count;
+        }
+    }
+    return count ? acc / double(count) : 0.0;
+}
+
 double Film::estimated_rel_mse() const {
     double acc = 0.0;
     size_t count = 0;

@@ -147,25 +147,7 @@ void ProgressiveRenderer::publish(uint64_t generation, bool target_reached) {
     s.generation = generation;
     s.width = film.width();
     s.height = film.height();
-    const size_t n = size_t(s.width) * size_t(s.height);
-    s.rgb.resize(n * 3);
-    s.rel_error.resize(n);
-    s.samples.resize(n);
-    double rel_mse_sum = 0.0;
-    size_t rel_mse_count = 0;
-    for (int y = 0, i = 0; y < s.height; ++y)
-        for (int x = 0; x < s.width; ++x, ++i) {
-            const FilmPixel& px = film.pixel(x, y);
-            const double inv = px.n ? 1.0 / px.n : 0.0;
-            for (int c = 0; c < 3; ++c) s.rgb[size_t(i) * 3 + c] = static_cast<float>(px.sum[c] * inv);
-            const std::optional<double> e = pixel_rel_mse(px);
-            s.rel_error[size_t(i)] = e ? static_cast<float>(std::sqrt(*e)) : 0.f;
-            s.samples[size_t(i)] = static_cast<float>(px.n);
-            if (e) {
-                rel_mse_sum += *e;
-                ++rel_mse_count;
-            }
-        }
+    s.rel_mse = film.views_into(s.rgb, s.rel_error, s.samples);
     s.spp = st.spp;
     s.seconds = st.seconds;
     s.rays = st.rays + st.shadow_rays;
@@ -173,7 +155,6 @@ void ProgressiveRenderer::publish(uint64_t generation, bool target_reached) {
     s.dropped = st.dropped;
     s.mrays_per_s = st.seconds > 0.0 ? double(s.rays) / st.seconds * 1e-6 : 0.0;
     s.ms_per_pass = st.last_pass_seconds * 1e3;
-    s.rel_mse = rel_mse_count ? rel_mse_sum / double(rel_mse_count) : 0.0;  // == film.estimated_rel_mse()
     s.target_reached = target_reached;
     s.camera = m_renderer.camera().desc();
     s.settings = m_renderer.settings();
