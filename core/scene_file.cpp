@@ -114,7 +114,10 @@ Scene load_json(const std::string& path) {
         }
         if (j.contains("environment")) {
             const json& e = j["environment"];
-            if (e.contains("map")) set_environment(scene, (dir / e["map"].get<std::string>()).string());
+            if (e.contains("map")) {
+                const std::string map = e["map"].get<std::string>();
+                set_environment(scene, map == "sky" ? map : (dir / map).string());  // "sky": the default sky
+            }
             if (e.contains("color")) scene.background = glm::max(read_vec3(e["color"], path, "color"), vec3(0.f));
             if (e.contains("rotation")) scene.environment_rotation_deg = read_float(e["rotation"], path, "rotation");
             if (e.contains("strength")) scene.environment_strength = read_float(e["strength"], path, "strength");

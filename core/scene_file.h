@@ -4,7 +4,8 @@
 //     "camera": { "eye": [x,y,z], "target": [x,y,z], "up": [x,y,z], "fov": 39.3,   // vertical, degrees
 //                 "aperture": 0.0, "focus_distance": 0.0 },                         // lens radius; 0 = at target
 //     "background": [r,g,b],                      // constant radiance of escaping rays (default black)
-//     "environment": { "map": "sky.exr", "rotation": 0, "strength": 1 },  // equirectangular .exr/.hdr/.png
+//     "environment": { "map": "sky.exr", "rotation": 0, "strength": 1 },  // equirectangular .exr/.hdr/.png,
+//                                                                         // or "sky": the default sky
 //     "sun": { "direction": [x,y,z], "irradiance": [r,g,b], "angular_radius": 0.27 },  // toward the sun; degrees
 //     "bookmarks": [ { "name": "door", "eye": [..], "target": [..], "up": [..], "fov": 40, ... } ],
 //     "two_sided_emitters": false,
