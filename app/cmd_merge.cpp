@@ -19,6 +19,7 @@ struct MergeOptions {
     std::vector<std::string> more_outs;  // every -o
     std::vector<std::string> parts;
     float exposure = 0.f;
+    std::string require;  // --require START:COUNT[,...]: the ranges the parts must cover, exactly
 };
 
 bool has_ext(const std::string& path, const char* lower, const char* upper) {
@@ -36,6 +37,10 @@ void run(const MergeOptions& o) {
     std::vector<PartialRender> parts;
     for (const std::string& p : o.parts) parts.push_back(read_partial(p));
     const PartialRender merged = merge_partials(parts, o.parts);
+    if (!o.require.empty() &&
+        format_ranges(merged.ranges) != format_ranges(parse_ranges(o.require, "--require " + o.require)))
+        throw Error("--require " + o.require + ": the parts hold samples " + format_ranges(merged.ranges) +
+                    " (a part is missing or extra)");
 
     Image image = merged.film.mean();
     for (float& v : image.rgb) v *= std::exp2(o.exposure);
@@ -63,6 +68,9 @@ void add_merge_command(CLI::App& app) {
         ->required()
         ->expected(1, -1);
     cmd->add_option("-o,--output", o->more_outs, "A further output file (.exr or .png)")->take_all();
+    cmd->add_option("--require", o->require,
+                    "Refuse unless the parts hold exactly these sample indices (START:COUNT, e.g. 0:4096): catches a "
+                    "missing shard");
     cmd->add_option("--exposure", o->exposure, "Exposure in stops for PNG outputs")->capture_default_str();
     cmd->callback([o] { run(*o); });
 }

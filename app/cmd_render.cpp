@@ -29,6 +29,7 @@ struct RenderOptions {
     bool quiet = false;
     std::string samples;  // --samples START:COUNT: a partial render (core/partial.h)
     std::string resume;   // --resume PART.exr: continue a partial render
+    std::string shard;    // --shard I/N: shard I of N of --spp's sample indices
     const CLI::App* cmd = nullptr;
 };
 
@@ -89,6 +90,14 @@ void run(RenderOptions& o) {
     // A partial render: --samples START:COUNT renders those indices; --resume continues a part after its last index.
     std::optional<SampleRange> samples;
     std::optional<PartialRender> resumed;
+    if (!o.shard.empty()) {
+        unsigned index = 0, shards = 0;
+        int used = 0;
+        if (std::sscanf(o.shard.c_str(), "%u/%u%n", &index, &shards, &used) != 2 || size_t(used) != o.shard.size())
+            throw Error("--shard " + o.shard + ": expected INDEX/COUNT, e.g. 3/16");
+        samples = shard_range(index, shards, uint32_t(*o.spp));
+        o.spp = int(samples->count);
+    }
     if (!o.samples.empty()) {
         samples = parse_samples(o.samples);
         if (!o.seconds) o.spp = int(samples->count);
@@ -240,10 +249,16 @@ void add_render_command(CLI::App& app) {
                                     "combines with the other ranges (EXR outputs: R G B = this range's image, plus "
                                     "the exact per-pixel sums)")
                         ->excludes(spp);
-    cmd->add_option("--resume", o->resume,
+    auto* resume = cmd->add_option("--resume", o->resume,
                     "Continue the partial render PART.exr (from `--samples` or `pathview merge`) with --spp N more "
                     "samples after its last index; scene, camera, size and settings come from the part")
         ->excludes(samples);
+    cmd->add_option("--shard", o->shard,
+                    "Render shard I of N (I/N, I from 0) of the --spp sample indices as a partial render, like "
+                    "--samples with the range computed: N contiguous ranges that tile [0, spp)")
+        ->needs(spp)
+        ->excludes(samples)
+        ->excludes(resume);
     o->cmd = cmd;
     cmd->callback([o] { run(*o); });
 }

@@ -173,6 +173,18 @@ std::vector<SampleRange> parse_ranges(const std::string& text, const std::string
     return out;
 }
 
+SampleRange shard_range(uint32_t index, uint32_t shards, uint32_t total) {
+    if (shards == 0 || index >= shards)
+        throw Error("--shard " + std::to_string(index) + "/" + std::to_string(shards) +
+                    ": expected INDEX/COUNT with 0 <= INDEX < COUNT");
+    if (total < shards)
+        throw Error("--shard " + std::to_string(index) + "/" + std::to_string(shards) + ": " + std::to_string(total) +
+                    " samples cannot fill " + std::to_string(shards) + " shards; use at most " +
+                    std::to_string(total) + " shards");
+    const uint32_t base = total / shards, extra = total % shards;
+    return {index * base + std::min(index, extra), base + (index < extra ? 1u : 0u)};
+}
+
 uint64_t scene_hash(const Scene& scene, const std::vector<Material>& materials, const EnvironmentSettings& env) {
     Hasher h;
     h.vector(scene.positions);

@@ -42,6 +42,10 @@ std::vector<SampleRange> parse_ranges(const std::string& text, const std::string
 // Sorts by start and joins touching ranges (0:16,16:16 -> 0:32); throws pv::Error naming `what` if two overlap.
 void normalize_ranges(std::vector<SampleRange>& ranges, const std::string& what);
 
+// Shard `index` of `shards` of the sample indices [0, total): contiguous ranges in order, the first total % shards
+// one sample longer, so that the shards tile [0, total). Throws pv::Error if index >= shards or total < shards.
+SampleRange shard_range(uint32_t index, uint32_t shards, uint32_t total);
+
 // What must agree for two partial renders to merge.
 struct RenderIdentity {
     std::string version;   // partial_version() of the pathview that wrote it

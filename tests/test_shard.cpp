@@ -190,6 +190,25 @@ TEST(ShardFormat, SceneHashSeesMaterialsEnvironmentAndGeometry) {
     EXPECT_NE(h, scene_hash(moved, scene.materials, env));
 }
 
+TEST(ShardFormat, ShardsTileTheSampleRange) {
+    for (uint32_t total : {1u, 7u, 64u, 100u, 4096u})
+        for (uint32_t shards : {1u, 3u, 4u, 7u})
+            if (shards <= total) {
+                uint32_t next = 0, shortest = total, longest = 0;
+                for (uint32_t i = 0; i < shards; ++i) {
+                    const SampleRange r = shard_range(i, shards, total);
+                    EXPECT_EQ(r.start, next) << total << " " << shards << " " << i;
+                    next = uint32_t(r.end());
+                    shortest = std::min(shortest, r.count);
+                    longest = std::max(longest, r.count);
+                }
+                EXPECT_EQ(next, total);
+                EXPECT_LE(longest - shortest, 1u);
+            }
+    EXPECT_THROW(shard_range(4, 4, 64), Error);
+    EXPECT_THROW(shard_range(0, 8, 4), Error);
+}
+
 TEST(ShardFormat, RangesParseAndJoin) {
     EXPECT_EQ(format_ranges(parse_ranges("16:16,0:16,40:8", "x")), "0:32,40:8");
     for (const char* bad : {"", "5", "1:0", "a:3", "-1:3", "4294967295:2", "0:8,4:8"})

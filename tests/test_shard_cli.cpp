@@ -43,9 +43,10 @@ TEST(ShardCli, MergedShardsAndResumedPartEqualOneRender) {
     const CliDir d;
     expect_ok(pathview("render --spp 8" + kSize + " -o " + d / "single.exr"));
     expect_ok(pathview("render --samples 0:4" + kSize + " -o " + d / "a.exr"));
-    expect_ok(pathview("render --samples 4:4" + kSize + " -o " + d / "b.exr" + " -o " + d / "b.png"));
-    const test::RunResult m = pathview("merge " + d / "merged.exr" + " " + d / "b.exr" + " " + d / "a.exr" + " -o " +
-                                       d / "merged.png");
+    // --shard 1/2 of --spp 8 is --samples 4:4.
+    expect_ok(pathview("render --spp 8 --shard 1/2" + kSize + " -o " + d / "b.exr" + " -o " + d / "b.png"));
+    const test::RunResult m = pathview("merge --require 0:8 " + d / "merged.exr" + " " + d / "b.exr" + " " +
+                                       d / "a.exr" + " -o " + d / "merged.png");
     expect_ok(m);
     EXPECT_NE(m.out.find("samples 0:8 (8 spp)"), std::string::npos) << m.out;
     EXPECT_TRUE(fs::exists(d.file("merged.png")));
@@ -99,6 +100,12 @@ TEST(ShardCli, BadPartsLeaveNothingAtTheOutput) {
         for (const auto& e : fs::directory_iterator(d.path))
             EXPECT_EQ(e.path().filename().string().rfind("out.", 0), std::string::npos) << "wrote " << e.path();
     }
+    // A missing shard: --require names the ranges there are.
+    const test::RunResult gap = pathview("merge --require 0:8 " + d / "out.exr" + " " + d / "a.exr");
+    EXPECT_NE(gap.exit_code, 0);
+    EXPECT_NE(gap.err.find("the parts hold samples 0:2"), std::string::npos) << gap.err;
+    EXPECT_FALSE(fs::exists(d.file("out.exr")));
+
     // Resuming from a part of another scene: the scene named on the command line differs.
     const std::string other = fs::path(PATHVIEW_ASSETS).append("mis-plates/scene.json").string();
     const test::RunResult r = pathview("render '" + other + "' --resume " + d / "a.exr" + " --spp 1 -q -o " + d / "out.exr");
