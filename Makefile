@@ -18,7 +18,7 @@ CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DPATHVIEW_WERROR=ON
 export CCACHE_BASEDIR := $(CURDIR)
 export CCACHE_NOHASHDIR := 1
 
-.PHONY: deps build run test test-release test-sanitize build-asan-fuzz test-asan test-tsan test-fuzz bench clean
+.PHONY: deps build run test test-slurm test-release test-sanitize build-asan-fuzz test-asan test-tsan test-fuzz bench clean
 
 deps:
 	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
@@ -43,7 +43,16 @@ run: build
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-test: test-release test-sanitize test-fuzz
+test: test-release test-sanitize test-fuzz test-slurm
+
+# A one-node Slurm 22.05 cluster on this machine (munged, slurmctld, slurmd as root, everything in a temporary
+# folder): deploy/slurm's 4-task array job renders the shards of a small render, the dependent job merges them, and
+# the result must equal a single-process render (tests/slurm/run.sh; about 15 s, bounded by timeout, torn down
+# whatever happens). Installs Debian's slurm-wlm and munge when missing.
+SLURM_PACKAGES := slurm-wlm munge
+test-slurm: build
+	@$(MAKE) --no-print-directory deps PACKAGES="$(SLURM_PACKAGES)"
+	$(SUDO) timeout --kill-after=30 600 tests/slurm/run.sh $(BUILD)/pathview $(BUILD)/tests/pathview_exr_compare
 
 # Sanitizer builds: no viewer, no micro-benchmarks; RelWithDebInfo for readable reports. The ASan+UBSan build uses
 # clang with libFuzzer instrumentation so that the suite and the fuzzer share one build (build-asan-fuzz).

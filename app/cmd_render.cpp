@@ -3,6 +3,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/partial.h"
 #include "core/renderer.h"
 #include "core/scene_file.h"
 
@@ -26,7 +27,54 @@ struct RenderOptions {
     std::vector<std::string> outs;  // every -o: the same render written to each
     float exposure = 0.f;
     bool quiet = false;
+    std::string samples;  // --samples START:COUNT: a partial render (core/partial.h)
+    std::string resume;   // --resume PART.exr: continue a partial render
+    std::string shard;    // --shard I/N: shard I of N of --spp's sample indices
+    const CLI::App* cmd = nullptr;
 };
+
+// Options that --resume takes from the part instead (they define the image).
+const char* const kFromPart[] = {"--width", "--height", "--seed", "--max-depth", "--light-sampling", "--mis", "--rr",
+                                 "--sampler", "--eye", "--target", "--up", "--fov", "--aperture", "--focus-distance",
+                                 "--bookmark", "--environment", "--env-rotation", "--env-strength", "--sun",
+                                 "--sun-irradiance", "--sun-radius"};
+
+// The scene overrides given (--environment, --sun ...) as flags, recorded in partial renders so that --resume
+// applies them again (exact: %.9g).
+std::string scene_flags(const CommonOptions& c) {
+    std::string s;
+    auto num = [](float v) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.9g", v);
+        return std::string(buf);
+    };
+    if (!c.environment.empty()) s += " --environment \"" + c.environment + "\"";
+    if (c.env_rotation) s += " --env-rotation " + num(*c.env_rotation);
+    if (c.env_strength) s += " --env-strength " + num(*c.env_strength);
+    if (c.sun.size() == 3) s += " --sun " + num(c.sun[0]) + "," + num(c.sun[1]) + "," + num(c.sun[2]);
+    if (c.sun_irradiance) s += " --sun-irradiance " + num(*c.sun_irradiance);
+    if (c.sun_radius) s += " --sun-radius " + num(*c.sun_radius);
+    return s.empty() ? s : s.substr(1);
+}
+
+// Parses scene_flags() text back into `c`'s scene overrides.
+void parse_scene_flags(const std::string& flags, const std::string& what, CommonOptions& c) {
+    CLI::App parser;
+    add_common_options(parser, c);
+    try {
+        parser.parse(flags, false);
+    } catch (const CLI::ParseError& e) {
+        throw Error(what + ": pathview:scene_flags '" + flags + "' cannot be parsed: " + e.what());
+    }
+}
+
+// The sample range START:COUNT of --samples.
+SampleRange parse_samples(const std::string& text) {
+    const std::vector<SampleRange> r = parse_ranges(text, "--samples " + text);
+    if (r.size() != 1 || r[0].count > (1u << 30))
+        throw Error("--samples " + text + ": expected one START:COUNT with COUNT <= 2^30");
+    return r[0];
+}
 
 void progress_bar(double fraction, uint32_t spp, double seconds) {
     const int width = 30;
@@ -39,6 +87,33 @@ void progress_bar(double fraction, uint32_t spp, double seconds) {
 void run(RenderOptions& o) {
     resolve_switches(o.common);
     if (!o.spp && !o.seconds) o.spp = 64;
+    // A partial render: --samples START:COUNT renders those indices; --resume continues a part after its last index.
+    std::optional<SampleRange> samples;
+    std::optional<PartialRender> resumed;
+    if (!o.shard.empty()) {
+        unsigned index = 0, shards = 0;
+        int used = 0;
+        if (std::sscanf(o.shard.c_str(), "%u/%u%n", &index, &shards, &used) != 2 || size_t(used) != o.shard.size())
+            throw Error("--shard " + o.shard + ": expected INDEX/COUNT, e.g. 3/16");
+        samples = shard_range(index, shards, uint32_t(*o.spp));
+        o.spp = int(samples->count);
+    }
+    if (!o.samples.empty()) {
+        samples = parse_samples(o.samples);
+        if (!o.seconds) o.spp = int(samples->count);
+    }
+    if (!o.resume.empty()) {
+        for (const char* flag : kFromPart)
+            if (o.cmd->get_option(flag)->count())
+                throw Error("--resume " + o.resume + ": " + flag + " comes from the part; leave it out");
+        resumed = read_partial(o.resume);
+        parse_scene_flags(resumed->info["pathview:scene_flags"], o.resume, o.common);
+        if (o.common.scene.empty()) o.common.scene = resumed->info["pathview:scene"];
+        samples = SampleRange{uint32_t(resumed->ranges.back().end()), 0};
+        if (resumed->ranges.back().end() + uint64_t(o.spp.value_or(0)) > (uint64_t(1) << 32))
+            throw Error("--resume " + o.resume + ": the part ends at sample " +
+                        std::to_string(resumed->ranges.back().end()) + "; no room for more sample indices");
+    }
     const std::string path = scene_path(o.common);
     for (const std::string& out : o.outs) {
         const std::string ext = std::filesystem::path(out).extension().string();
@@ -61,6 +136,12 @@ void run(RenderOptions& o) {
     for (const std::string& w : scene->warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
     CameraDesc camera = scene->camera;
     apply_camera_overrides(o.common, *scene, camera);
+    if (resumed) {
+        camera = parse_camera(resumed->id.camera, o.resume);
+        o.common.settings = parse_settings(resumed->id.settings, o.resume);
+        o.common.width = resumed->id.width;
+        o.common.height = resumed->id.height;
+    }
 
     // BVH build progress from Embree's build threads, drawn at most every 2 percent.
     std::mutex progress_mutex;
@@ -81,6 +162,14 @@ void run(RenderOptions& o) {
                      double(as.bytes) / double(std::max<size_t>(1, scene->triangle_count())));
     }
     renderer.restart(camera, o.common.settings, o.common.width, o.common.height);
+    if (resumed) {
+        const uint64_t hash = scene_hash(renderer.scene(), renderer.materials(), renderer.environment_settings());
+        if (hash != resumed->id.scene_hash)
+            throw Error("--resume " + o.resume + ": the scene " + path + " (with the part's environment flags) is not "
+                        "the one the part was rendered from (scene hash differs)");
+        renderer.load_film(resumed->film);
+    }
+    if (samples) renderer.set_next_sample(samples->start);
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     double last_draw = -1.0;
@@ -104,9 +193,21 @@ void run(RenderOptions& o) {
     Image image = renderer.film().mean();
     if (o.exposure != 0.f)
         for (float& v : image.rgb) v *= std::exp2(o.exposure);
+    std::optional<PartialRender> part;
+    if (samples) {
+        std::vector<SampleRange> ranges{{samples->start, renderer.stats().spp}};
+        if (resumed) ranges.insert(ranges.end(), resumed->ranges.begin(), resumed->ranges.end());
+        part = partial_from_renderer(renderer, ranges);
+        part->info["pathview:scene_flags"] = scene_flags(o.common);
+        if (resumed) add_summed_info(part->info, resumed->info);
+    }
     std::string written;
     for (const std::string& out : o.outs) {
-        write_image(out, image, render_metadata(renderer));
+        const std::string ext = std::filesystem::path(out).extension().string();
+        if (part && (ext == ".exr" || ext == ".EXR"))
+            write_partial(out, *part);
+        else
+            write_image(out, image, render_metadata(renderer));
         written += (written.empty() ? "" : ", ") + out;
     }
 
@@ -142,6 +243,23 @@ void add_render_command(CLI::App& app) {
         ->take_all();
     cmd->add_option("--exposure", o->exposure, "Exposure in stops applied before writing")->capture_default_str();
     cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
+    auto* samples = cmd->add_option("--samples", o->samples,
+                                    "Render only the sample indices START..START+COUNT-1 (START:COUNT; with --time, "
+                                    "at most COUNT, as many as fit) and write a partial render that `pathview merge` "
+                                    "combines with the other ranges (EXR outputs: R G B = this range's image, plus "
+                                    "the exact per-pixel sums)")
+                        ->excludes(spp);
+    auto* resume = cmd->add_option("--resume", o->resume,
+                    "Continue the partial render PART.exr (from `--samples` or `pathview merge`) with --spp N more "
+                    "samples after its last index; scene, camera, size and settings come from the part")
+        ->excludes(samples);
+    cmd->add_option("--shard", o->shard,
+                    "Render shard I of N (I/N, I from 0) of the --spp sample indices as a partial render, like "
+                    "--samples with the range computed: N contiguous ranges that tile [0, spp)")
+        ->needs(spp)
+        ->excludes(samples)
+        ->excludes(resume);
+    o->cmd = cmd;
     cmd->callback([o] { run(*o); });
 }
 

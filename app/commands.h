@@ -42,5 +42,6 @@ std::string scene_path(const CommonOptions& o);
 void add_render_command(CLI::App& app);
 void add_view_command(CLI::App& app, CLI::App*& view_cmd);
 void add_bench_command(CLI::App& app);
+void add_merge_command(CLI::App& app);
 
 }  // namespace pv::app

@@ -1,12 +1,38 @@
 // core/film.cpp: means, variances and the half-buffer error estimate.
 #include "core/film.h"
 
+#include <cassert>
+
 namespace pv {
 
 void Film::reset(int width, int height) {
     m_width = width;
     m_height = height;
     m_pixels.assign(size_t(width) * size_t(height), FilmPixel{});
+}
+
+Film Film::from_pixels(int width, int height, std::vector<FilmPixel> pixels) {
+    assert(pixels.size() == size_t(width) * size_t(height));
+    Film f;
+    f.m_width = width;
+    f.m_height = height;
+    f.m_pixels = std::move(pixels);
+    return f;
+}
+
+void Film::merge(const Film& other) {
+    assert(other.m_width == m_width && other.m_height == m_height);
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        FilmPixel& a = m_pixels[i];
+        const FilmPixel& b = other.m_pixels[i];
+        for (int c = 0; c < 3; ++c) {
+            a.sum[c] += b.sum[c];
+            a.sum_sq[c] += b.sum_sq[c];
+            a.sum_even[c] += b.sum_even[c];
+        }
+        a.n += b.n;
+        a.n_even += b.n_even;
+    }
 }
 
 void Film::mean_into(Image& out) const {

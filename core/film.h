@@ -81,6 +81,14 @@ public:
     // Resizes the vectors; returns estimated_rel_mse().
     double views_into(std::vector<float>& rgb, std::vector<float>& rel_error, std::vector<float>& samples) const;
 
+    // The per-pixel accumulators, row-major from the top-left (for writing partial renders, core/partial.h).
+    const std::vector<FilmPixel>& pixels() const { return m_pixels; }
+    // A film holding these accumulators (width * height of them), e.g. read back from a partial render.
+    static Film from_pixels(int width, int height, std::vector<FilmPixel> pixels);
+    // Adds another film's sums, sums of squares, half-buffer sums and counts, pixel by pixel: the film of the
+    // union of both films' samples when they hold disjoint sample indices. Same size; not thread-safe.
+    void merge(const Film& other);
+
 private:
     int m_width = 0, m_height = 0;
     std::vector<FilmPixel> m_pixels;

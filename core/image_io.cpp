@@ -115,6 +115,19 @@ void write_png(const std::string& path, const Image& image, float exposure) {
     commit(tmp, path);
 }
 
+void write_via_temporary(const std::string& path, const std::function<void(const std::string& tmp)>& write) {
+    check_folder(path);
+    const std::string tmp = temp_name(path);
+    try {
+        write(tmp);
+    } catch (const std::exception& e) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        throw Error(path + ": cannot write: " + e.what());
+    }
+    commit(tmp, path);
+}
+
 void write_image(const std::string& path, const Image& image, const Metadata& metadata) {
     const std::string ext = std::filesystem::path(path).extension().string();
     if (ext == ".exr" || ext == ".EXR") return write_exr(path, image, metadata);

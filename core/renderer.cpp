@@ -2,6 +2,7 @@
 // lines in the hot loop).
 #include "core/renderer.h"
 
+#include "core/error.h"
 #include "core/tsan.h"
 
 #include <tbb/blocked_range.h>
@@ -57,13 +58,22 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     m_settings = settings;
     m_film.reset(width, height);
     m_stats = RenderStats{};
+    m_next_sample = 0;
+}
+
+void Renderer::load_film(Film film) {
+    if (film.width() != m_film.width() || film.height() != m_film.height())
+        throw Error("a film of " + std::to_string(film.width()) + "x" + std::to_string(film.height()) +
+                    " does not fit a render of " + std::to_string(m_film.width()) + "x" +
+                    std::to_string(m_film.height()));
+    m_film = std::move(film);
 }
 
 bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const auto start = std::chrono::steady_clock::now();
     const int w = m_film.width(), h = m_film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
-    const uint32_t index = m_stats.spp;
+    const uint32_t index = m_next_sample;
     const SceneView view{m_scene.get(), &m_materials, m_accel.get(), &m_lights, &m_environment};
     std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
     std::atomic<bool> cancelled{false};
@@ -103,6 +113,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
         m_stats.dropped += tt.dropped;
     }
     m_stats.spp++;
+    m_next_sample++;
     m_stats.last_pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     m_stats.seconds += m_stats.last_pass_seconds;
     return true;

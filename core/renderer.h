@@ -43,6 +43,13 @@ public:
     void set_environment(const EnvironmentSettings& settings);
     const EnvironmentSettings& environment_settings() const { return m_environment_settings; }
 
+    // Passes from now on render sample indices first, first + 1, ... (restart() starts at 0), so that a render
+    // can be split into sample ranges and merged (core/partial.h). Not concurrent with render_pass().
+    void set_next_sample(uint32_t first) { m_next_sample = first; }
+    uint32_t next_sample() const { return m_next_sample; }
+    // Replaces the film's accumulators with `film` (the current size; e.g. a partial render being resumed).
+    void load_film(Film film);
+
     // Adds one sample per pixel. Returns false if `cancel` became true during the pass (the film then holds a
     // partial pass: call restart() before using it).
     bool render_pass(const std::atomic<bool>* cancel = nullptr);
@@ -72,6 +79,7 @@ private:
     Camera m_camera;
     Film m_film;
     RenderStats m_stats;
+    uint32_t m_next_sample = 0;
     int m_threads = 1;
     struct Pool;
     std::unique_ptr<Pool> m_pool;

@@ -26,6 +26,7 @@ public:
     int height() const { return m_height; }
     bool has_alpha() const { return m_has_alpha; }
     size_t bytes() const { return m_texels.size() * sizeof(vec4); }
+    const std::vector<vec4>& texels() const { return m_texels; }  // row 0 at the top
 
 private:
     int m_width = 0, m_height = 0;

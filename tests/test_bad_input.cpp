@@ -5,6 +5,7 @@
 #include "core/obj_loader.h"
 #include "core/renderer.h"
 #include "core/scene_file.h"
+#include "tests/support/cli.h"
 #include "tests/support/scenes.h"
 
 #include <gtest/gtest.h>
@@ -194,32 +195,10 @@ TEST(BadInput, FromStringNamesTheSource) {
 
 // ---------------------------------------------------------------- the CLI
 
-struct RunResult {
-    int exit_code = -1;
-    std::string out, err;
-};
+using test::line_count;
+using test::RunResult;
 
-RunResult run_pathview(const std::string& args) {
-    const fs::path dir = fs::temp_directory_path() / ("pathview_cli_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
-    const std::string out = (dir / "stdout").string(), err = (dir / "stderr").string();
-    const std::string cmd = std::string("'") + PATHVIEW_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "'";
-    const int status = std::system(cmd.c_str());
-    RunResult r;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    auto slurp = [](const std::string& p) {
-        std::ifstream in(p);
-        std::stringstream ss;
-        ss << in.rdbuf();
-        return ss.str();
-    };
-    r.out = slurp(out);
-    r.err = slurp(err);
-    fs::remove_all(dir);
-    return r;
-}
-
-size_t line_count(const std::string& s) { return size_t(std::count(s.begin(), s.end(), '\n')); }
+RunResult run_pathview(const std::string& args) { return test::run_command(PATHVIEW_BINARY, args); }
 
 TEST(BadInputCli, MissingSceneExitsNonZeroWithOneLine) {
     const std::string missing = data("no_such_scene.obj");

@@ -1,0 +1,78 @@
+// app/cmd_merge.cpp: `pathview merge OUT PART...`: adds partial renders of one image (core/partial.h) and writes
+// the result: an .exr is itself a partial render (mergeable and resumable; its R, G, B are the image), a .png the
+// tone-mapped mean. Every part is read and checked before anything is written.
+#include "app/commands.h"
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/partial.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+namespace pv::app {
+namespace {
+
+struct MergeOptions {
+    std::string out;
+    std::vector<std::string> more_outs;  // every -o
+    std::vector<std::string> parts;
+    float exposure = 0.f;
+    std::string require;  // --require START:COUNT[,...]: the ranges the parts must cover, exactly
+};
+
+bool has_ext(const std::string& path, const char* lower, const char* upper) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    return ext == lower || ext == upper;
+}
+
+void run(const MergeOptions& o) {
+    std::vector<std::string> outs{o.out};
+    outs.insert(outs.end(), o.more_outs.begin(), o.more_outs.end());
+    for (const std::string& out : outs)
+        if (!has_ext(out, ".exr", ".EXR") && !has_ext(out, ".png", ".PNG"))
+            throw Error(out + ": unknown image format '" + std::filesystem::path(out).extension().string() +
+                        "'; expected .exr or .png");
+    std::vector<PartialRender> parts;
+    for (const std::string& p : o.parts) parts.push_back(read_partial(p));
+    const PartialRender merged = merge_partials(parts, o.parts);
+    if (!o.require.empty() &&
+        format_ranges(merged.ranges) != format_ranges(parse_ranges(o.require, "--require " + o.require)))
+        throw Error("--require " + o.require + ": the parts hold samples " + format_ranges(merged.ranges) +
+                    " (a part is missing or extra)");
+
+    Image image = merged.film.mean();
+    for (float& v : image.rgb) v *= std::exp2(o.exposure);
+    for (const std::string& out : outs) {
+        if (has_ext(out, ".exr", ".EXR"))
+            write_partial(out, merged);
+        else
+            write_png(out, image);
+    }
+    std::printf("pathview: merged %zu parts, samples %s (%llu spp), %dx%d, estimated relMSE %.3g -> %s\n", parts.size(),
+                format_ranges(merged.ranges).c_str(), static_cast<unsigned long long>(merged.sample_count()),
+                merged.id.width, merged.id.height, merged.film.estimated_rel_mse(), o.out.c_str());
+}
+
+}  // namespace
+
+void add_merge_command(CLI::App& app) {
+    auto o = std::make_shared<MergeOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "merge", "Merge partial renders of one image (pathview render --samples START:COUNT) into OUT: .exr (itself a "
+                 "partial render: mergeable, resumable, R G B = the image) or .png");
+    cmd->add_option("out", o->out, "Output file: .exr or .png")->required();
+    cmd->add_option("parts", o->parts, "Partial renders (.exr) of the same scene, settings, camera and size, with "
+                                       "disjoint sample ranges")
+        ->required()
+        ->expected(1, -1);
+    cmd->add_option("-o,--output", o->more_outs, "A further output file (.exr or .png)")->take_all();
+    cmd->add_option("--require", o->require,
+                    "Refuse unless the parts hold exactly these sample indices (START:COUNT, e.g. 0:4096): catches a "
+                    "missing shard");
+    cmd->add_option("--exposure", o->exposure, "Exposure in stops for PNG outputs")->capture_default_str();
+    cmd->callback([o] { run(*o); });
+}
+
+}  // namespace pv::app
