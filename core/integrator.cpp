@@ -14,6 +14,15 @@ inline float power_heuristic(float pa, float pb) {
     return 1.f / (1.f + r * r);
 }
 
+// Weight of emission found by a BSDF-sampled ray when next-event estimation is on. With MIS, the power heuristic.
+// Without, light sampling alone counts an emitter, except one it can never pick (light pdf 0: an emitter whose
+// share of the power rounds to a selection probability of 0, or an unsampleable one): there the BSDF sample is
+// the only estimator, weight 1. The two weights of any direction still sum to 1, so both stay unbiased.
+inline float bsdf_hit_weight(bool mis, float bsdf_pdf, float light_pdf) {
+    if (mis) return power_heuristic(bsdf_pdf, light_pdf);
+    return light_pdf > 0.f ? 0.f : 1.f;
+}
+
 }  // namespace
 
 std::string RenderSettings::describe() const {
@@ -49,8 +58,8 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
                 const vec3 le = env.eval(ray.d);
                 if (!nee || specular_bounce)
                     L += beta * le;
-                else if (mis)
-                    L += beta * le * power_heuristic(prev_pdf, p_env * env.pdf(ray.d));
+                else
+                    L += beta * le * bsdf_hit_weight(mis, prev_pdf, p_env * env.pdf(ray.d));
             }
             break;
         }
@@ -64,9 +73,9 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         if (mat.has_emission() && (front || mat.two_sided_emission)) {
             if (!nee || specular_bounce) {
                 L += beta * mat.emission;
-            } else if (mis) {
+            } else {
                 const float light_pdf = (1.f - p_env) * lights.pdf(hit.prim, prev_p, sf.p, sf.ng);
-                L += beta * mat.emission * power_heuristic(prev_pdf, light_pdf);
+                L += beta * mat.emission * bsdf_hit_weight(mis, prev_pdf, light_pdf);
             }
         }
         if (depth >= settings.max_depth) break;
