@@ -56,11 +56,8 @@ void run(RenderOptions& o) {
             std::fprintf(stderr, "\rpathview: loading %s  %.1f s", path.c_str(), since_load());
     auto scene = std::make_shared<Scene>(loading.get());
     if (tty) std::fprintf(stderr, "\r\033[K");
-    apply_scene_overrides(o.common, *scene);
+    const CameraDesc camera = set_up_scene(o.common, *scene);
     const double load_seconds = since_load();
-    for (const std::string& w : scene->warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
-    CameraDesc camera = scene->camera;
-    apply_camera_overrides(o.common, *scene, camera);
 
     // BVH build progress from Embree's build threads, drawn at most every 2 percent.
     std::mutex progress_mutex;
