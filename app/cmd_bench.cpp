@@ -76,9 +76,7 @@ private:
 
 std::shared_ptr<Scene> load_bench_scene(const CommonOptions& o) {
     if (auto generated = generated_scene(o.scene)) return std::make_shared<Scene>(std::move(*generated));
-    auto scene = std::make_shared<Scene>(load_scene(scene_path(o)));
-    for (const std::string& w : scene->warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
-    return scene;
+    return std::make_shared<Scene>(load_scene(scene_path(o)));
 }
 
 // ---- Reference
@@ -348,8 +346,7 @@ void run(BenchOptions& o) {
     o.reference_sampler = *parse_sampler(o.reference_sampler_name);
     Progress progress(!o.quiet);
     std::shared_ptr<Scene> scene = load_bench_scene(o.common);
-    CameraDesc camera = scene->camera;
-    apply_camera_overrides(o.common, *scene, camera);
+    const CameraDesc camera = set_up_scene(o.common, *scene);
     const std::string scene_name = scene->source.empty() ? o.common.scene : scene->source;
 
     if (!o.rays_only) {

@@ -131,11 +131,8 @@ void run(RenderOptions& o) {
             std::fprintf(stderr, "\rpathview: loading %s  %.1f s", path.c_str(), since_load());
     auto scene = std::make_shared<Scene>(loading.get());
     if (tty) std::fprintf(stderr, "\r\033[K");
-    apply_scene_overrides(o.common, *scene);
+    CameraDesc camera = set_up_scene(o.common, *scene);
     const double load_seconds = since_load();
-    for (const std::string& w : scene->warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
-    CameraDesc camera = scene->camera;
-    apply_camera_overrides(o.common, *scene, camera);
     if (resumed) {
         camera = parse_camera(resumed->id.camera, o.resume);
         o.common.settings = parse_settings(resumed->id.settings, o.resume);

@@ -27,9 +27,7 @@ void run(const ViewOptions& o) {
     ui::ViewerOptions v;
     v.load_scene = [&o] {
         Scene scene = load_scene(scene_path(o.common));
-        apply_scene_overrides(o.common, scene);
-        apply_camera_overrides(o.common, scene, scene.camera);
-        for (const std::string& w : scene.warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
+        scene.camera = set_up_scene(o.common, scene);
         return scene;
     };
     v.settings = o.common.settings;

@@ -36,6 +36,9 @@ void resolve_switches(CommonOptions& o);
 void apply_camera_overrides(const CommonOptions& o, const Scene& scene, CameraDesc& camera);
 // Applies --environment / --env-rotation / --env-strength to a loaded scene (throws pv::Error on bad values).
 void apply_scene_overrides(const CommonOptions& o, Scene& scene);
+// The one scene set-up of render, view and bench, after loading: the scene overrides, its warnings printed (one
+// line each), and the camera to render from (the scene's, then --bookmark and the camera flags).
+CameraDesc set_up_scene(const CommonOptions& o, Scene& scene);
 // The scene path to load (the built-in Cornell box when none was given).
 std::string scene_path(const CommonOptions& o);
 

@@ -5,6 +5,7 @@
 #include "core/scene_file.h"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace pv::app {
 namespace {
@@ -91,6 +92,14 @@ void apply_scene_overrides(const CommonOptions& o, Scene& scene) {
         scene.sun_irradiance = vec3(*o.sun_irradiance);
     }
     if (o.sun_radius) scene.sun_angular_radius_deg = *o.sun_radius;
+}
+
+CameraDesc set_up_scene(const CommonOptions& o, Scene& scene) {
+    apply_scene_overrides(o, scene);
+    for (const std::string& w : scene.warnings) std::fprintf(stderr, "pathview: warning: %s\n", w.c_str());
+    CameraDesc camera = scene.camera;
+    apply_camera_overrides(o, scene, camera);
+    return camera;
 }
 
 std::string scene_path(const CommonOptions& o) { return o.scene.empty() ? builtin_scene_path() : o.scene; }

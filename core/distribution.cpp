@@ -2,6 +2,7 @@
 #include "core/distribution.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 
 namespace pv {
@@ -34,6 +35,74 @@ void build_alias_table(const float* w, size_t n, AliasSlot* out) {
     // only through rounding), whose slot goes to the heaviest cell so that it is never chosen.
     for (const uint32_t i : large) out[i] = AliasSlot{1.f, i};
     for (const uint32_t i : small) out[i] = w[i] > 0.f ? AliasSlot{1.f, i} : AliasSlot{0.f, uint32_t(heaviest)};
+}
+
+DiscreteDistribution::DiscreteDistribution(const std::vector<double>& weights) {
+    const size_t n = weights.size();
+    double sum = 0.0;
+    for (const double w : weights) sum += w;
+    if (n == 0 || !(sum > 0.0) || !std::isfinite(sum)) return;
+    // Integer counts summing to 2^kBits: floors of the exact shares, the rest to the largest remainders.
+    const uint32_t total = 1u << kBits;
+    m_count.resize(n);
+    std::vector<double> rest(n);
+    uint64_t assigned = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double x = weights[i] / sum * double(total);
+        m_count[i] = uint32_t(std::floor(x));
+        rest[i] = x - std::floor(x);
+        assigned += m_count[i];
+    }
+    while (assigned > total) {  // only if rounding pushed exact-integer shares up: take from the largest
+        --*std::max_element(m_count.begin(), m_count.end());
+        --assigned;
+    }
+    std::vector<uint32_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[i] = uint32_t(i);
+    const size_t missing = size_t(total - assigned);  // < n: each floor lost less than 1
+    std::nth_element(order.begin(), order.begin() + std::ptrdiff_t(missing), order.end(),
+                     [&](uint32_t a, uint32_t b) { return rest[a] > rest[b] || (rest[a] == rest[b] && a < b); });
+    for (size_t j = 0; j < missing; ++j) ++m_count[order[j]];
+    m_pmf.resize(n);
+    for (size_t i = 0; i < n; ++i) m_pmf[i] = float(double(m_count[i]) / double(total));
+
+    // Slots: the smallest power of two >= the items that can be picked, each of `cap` = 2^kBits / slots values
+    // of k. With more than 2^kBits items, at most 2^kBits have a count, one slot (cap 1) each.
+    size_t picked = 0;
+    for (const uint32_t c : m_count) picked += c > 0;
+    uint32_t bits = 0;
+    while ((size_t(1) << bits) < std::max<size_t>(n <= total ? n : picked, 1)) ++bits;
+    m_shift = uint32_t(kBits) - bits;
+    m_mask = (1u << m_shift) - 1u;
+    const uint32_t cap = 1u << m_shift;
+    const size_t slots = size_t(1) << bits;
+    // The items that fill the slots: those with a count first, then count-0 ones (threshold 0) to pad.
+    std::vector<uint32_t> cell;
+    cell.reserve(slots);
+    for (size_t i = 0; i < n; ++i)
+        if (m_count[i] > 0) cell.push_back(uint32_t(i));
+    for (size_t i = 0; i < n && cell.size() < slots; ++i)
+        if (m_count[i] == 0) cell.push_back(uint32_t(i));
+    const size_t items = cell.size();
+    cell.resize(slots, cell.front());  // padding slots, count 0
+    // Vose's method in integers (exact): slot j starts with its item's count; a slot below cap is topped up
+    // from one above, which then carries its excess on. The counts sum to slots * cap, so nothing is left over.
+    std::vector<uint32_t> left(slots);
+    std::vector<uint32_t> small, large;
+    for (size_t j = 0; j < slots; ++j) {
+        left[j] = j < items ? m_count[cell[j]] : 0u;
+        (left[j] < cap ? small : large).push_back(uint32_t(j));
+    }
+    m_slots.resize(slots);
+    while (!small.empty() && !large.empty()) {
+        const uint32_t s = small.back(), l = large.back();
+        small.pop_back();
+        large.pop_back();
+        m_slots[s] = Slot{left[s], cell[s], cell[l]};
+        left[l] -= cap - left[s];
+        (left[l] < cap ? small : large).push_back(l);
+    }
+    for (const uint32_t j : large) m_slots[j] = Slot{cap, cell[j], cell[j]};
 }
 
 namespace {

@@ -45,6 +45,42 @@ inline float cell_to_unit(size_t cell, float offset, size_t n) {
     return std::min(float((double(cell) + double(offset)) / double(n)), kOneMinusEpsilon);
 }
 
+// A discrete distribution over n items, sampled in O(1) through an alias table whose probabilities are exact:
+// item i has probability count_i / 2^23 (counts from the weights by largest remainder), and sample() realises
+// exactly those probabilities for any u uniform on [0,1), continuous or on a grid of spacing 2^-23 or finer (both
+// samplers draw multiples of 2^-24, and one selection draw split in two halves still leaves multiples of 2^-23):
+// k = floor(u 2^23) is then uniform on [0, 2^23), and the table partitions those k. So an estimator dividing by
+// pmf() is unbiased for every item it can pick. An item whose share is below about half a count (2^-24) has
+// pmf() = 0 and is never picked; a float CDF instead could give an item probability 0 while its pmf was positive.
+class DiscreteDistribution {
+public:
+    static constexpr int kBits = 23;
+    DiscreteDistribution() = default;
+    // weights: non-negative and finite, with a positive sum (otherwise the distribution is empty).
+    explicit DiscreteDistribution(const std::vector<double>& weights);
+
+    bool empty() const { return m_pmf.empty(); }
+    size_t size() const { return m_pmf.size(); }
+    // An item with probability pmf(); u in [0,1). Requires !empty().
+    size_t sample(float u) const {
+        const uint32_t k = std::min(uint32_t(u * 0x1p23f), (1u << kBits) - 1u);
+        const Slot slot = m_slots[k >> m_shift];
+        return (k & m_mask) < slot.threshold ? slot.own : slot.alias;
+    }
+    float pmf(size_t i) const { return m_pmf[i]; }   // exactly count_i / 2^23
+    uint32_t count(size_t i) const { return m_count[i]; }
+
+private:
+    // A slot covers 2^m_shift consecutive k; the first `threshold` of them pick `own`, the rest `alias`.
+    struct Slot {
+        uint32_t threshold = 0, own = 0, alias = 0;
+    };
+    std::vector<Slot> m_slots;  // a power of two of them
+    std::vector<uint32_t> m_count;
+    std::vector<float> m_pmf;
+    uint32_t m_shift = 0, m_mask = 0;
+};
+
 class Distribution1D {
 public:
     Distribution1D() = default;

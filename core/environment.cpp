@@ -101,12 +101,17 @@ Environment::Environment(const Scene& scene, const EnvironmentSettings& settings
     } else {
         m_constant = settings.background * m_strength;
     }
-    // The sun: irradiance E from a uniform disk of angular radius a is L pi sin^2(a), so L = E / (pi sin^2 a).
-    const float radius = glm::radians(glm::clamp(settings.sun_angular_radius_deg, 0.01f, 45.f));
+    // The sun: irradiance E from a uniform disk of angular radius r is L pi sin^2(r), so L = E / (pi sin^2 r). Its
+    // cone is kept as 1 - cos r = 2 sin^2(r/2) and sin^2 r, in double then rounded once: both keep full relative
+    // precision for any radius, where cos r in float would be 1 below 0.02 degrees.
+    const double radius = glm::radians(double(glm::clamp(settings.sun_angular_radius_deg, 0.01f, 45.f)));
     if (sun_shines(settings)) {
+        const double sin_half = std::sin(0.5 * radius), sin_r = std::sin(radius);
         m_sun_dir = glm::normalize(settings.sun_direction);
-        m_sun_cos = std::cos(radius);
-        m_sun_radiance = settings.sun_irradiance / (kPi * sqr(std::sin(radius)));
+        m_sun_one_minus_cos = float(2.0 * sin_half * sin_half);
+        m_sun_sin2 = float(sin_r * sin_r);
+        m_sun_radiance = vec3(dvec3(settings.sun_irradiance) / (M_PI * sin_r * sin_r));
+        m_sun_pdf = float(1.0 / (4.0 * M_PI * sin_half * sin_half));  // uniform in a cone of 2 pi (1 - cos r)
         m_sun_frame = Frame(m_sun_dir);
         m_p_sun = m_sky_black ? 1.f : 0.5f;
     }
@@ -176,14 +181,20 @@ ivec2 Environment::direction_to_texel(vec3 dir) const {
 
 vec3 Environment::eval(vec3 dir) const { return eval_sun(dir) + eval_sky(dir); }
 
+bool Environment::in_sun(vec3 dir) const {
+    // angle(dir, sun) <= r iff the angle is acute and sin^2 of it, |dir x sun|^2 / |dir|^2, is at most sin^2 r
+    // (r <= 45 degrees). The cross product keeps a small angle's full relative precision, where the dot product
+    // (its cosine) cannot resolve angles below float's 3.5e-4 rad = 0.02 degrees.
+    const vec3 c = glm::cross(dir, m_sun_dir);
+    return glm::dot(dir, m_sun_dir) > 0.f && glm::dot(c, c) <= m_sun_sin2 * glm::dot(dir, dir);
+}
+
 vec3 Environment::eval_sun(vec3 dir) const {
-    return m_p_sun > 0.f && glm::dot(dir, m_sun_dir) >= m_sun_cos ? m_sun_radiance : vec3(0.f);
+    return m_p_sun > 0.f && in_sun(dir) ? m_sun_radiance : vec3(0.f);
 }
 
 float Environment::pdf_sun(vec3 dir) const {
-    // Uniform in the cone: solid angle 2 pi (1 - cos a).
-    if (m_p_sun == 0.f || glm::dot(dir, m_sun_dir) < m_sun_cos) return 0.f;
-    return 1.f / (2.f * kPi * (1.f - m_sun_cos));
+    return m_p_sun > 0.f && in_sun(dir) ? m_sun_pdf : 0.f;
 }
 
 vec3 Environment::eval_sky(vec3 dir) const {
@@ -197,21 +208,31 @@ std::optional<EnvironmentSample> Environment::sample(vec2 u) const {
     if (m_black) return std::nullopt;
     EnvironmentSample s;
     if (u.x < m_p_sun) {
-        // The sun: uniform direction in its cone (u.x rescaled to [0, 1) for reuse).
+        // The sun: a uniform direction in its cone, 1 - cos t = ux (1 - cos r), so sin^2 t = (1 - cos t)(1 + cos t)
+        // keeps its precision at any radius (no rings of equal float cos t). u.x is rescaled to [0, 1) for reuse.
+        // The direction is in the cone by construction, so the sun's radiance and pdf are taken as such: a
+        // direction on the cone's edge may round outside in_sun(), which would otherwise lose it.
         const float ux = glm::min(u.x / m_p_sun, kOneMinusEpsilon);
-        const float cos_t = 1.f - ux * (1.f - m_sun_cos);
-        const float sin_t = safe_sqrt(1.f - cos_t * cos_t);
+        const float one_minus_cos = ux * m_sun_one_minus_cos;
+        const float sin_t = std::sqrt(one_minus_cos * (2.f - one_minus_cos));
         const vec2 cs = cos_sin_turns(u.y);  // phi = 2 pi u.y
-        s.wi = m_sun_frame.to_world(vec3(sin_t * cs.x, sin_t * cs.y, cos_t));
-        if (m_map && !m_sky_black) {
-            // One texel search serves both the sky's radiance and its pdf.
-            float sin_theta = 0.f;
-            const size_t texel = texel_index(s.wi, &sin_theta);
-            s.pdf = m_p_sun * pdf_sun(s.wi) + (1.f - m_p_sun) * pdf_sky_texel(texel, sin_theta);
-            if (!(s.pdf > 0.f)) return std::nullopt;
-            s.le = eval_sun(s.wi) + m_radiance[texel];
-            return s;
+        s.wi = m_sun_frame.to_world(vec3(sin_t * cs.x, sin_t * cs.y, 1.f - one_minus_cos));
+        s.pdf = m_p_sun * m_sun_pdf;
+        s.le = m_sun_radiance;
+        if (!m_sky_black) {
+            if (m_map) {
+                // One texel search serves both the sky's radiance and its pdf.
+                float sin_theta = 0.f;
+                const size_t texel = texel_index(s.wi, &sin_theta);
+                s.pdf += (1.f - m_p_sun) * pdf_sky_texel(texel, sin_theta);
+                s.le += m_radiance[texel];
+            } else {
+                s.pdf += (1.f - m_p_sun) * uniform_sphere_pdf();
+                s.le += m_constant;
+            }
         }
+        if (!(s.pdf > 0.f)) return std::nullopt;
+        return s;
     } else if (!m_map) {
         const vec2 us((u.x - m_p_sun) / (1.f - m_p_sun), u.y);
         s.wi = square_to_uniform_sphere(vec2(glm::min(us.x, kOneMinusEpsilon), us.y));

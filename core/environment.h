@@ -69,13 +69,18 @@ private:
     bool m_black = true;
     bool m_sky_black = true;
     vec3 m_constant{0.f};
-    // Sun: unit direction, cos of the angular radius, radiance, and the probability of sampling it.
+    // Sun: unit direction; its angular radius r as 1 - cos r = 2 sin^2(r/2) and sin^2 r (float's cos r is 1 for
+    // r below 0.02 degrees, and 1 - cos r loses all but a few bits near the real sun's 0.27); radiance, and the
+    // probability of sampling it.
     vec3 m_sun_dir{0.f, 1.f, 0.f};
-    float m_sun_cos = 1.f;
+    float m_sun_one_minus_cos = 0.f;
+    float m_sun_sin2 = 0.f;
+    float m_sun_pdf = 0.f;  // 1 / (2 pi (1 - cos r)), uniform in the cone
     vec3 m_sun_radiance{0.f};
     float m_p_sun = 0.f;
     Frame m_sun_frame;
 
+    bool in_sun(vec3 dir) const;  // dir (any length, not 0) within the sun's angular radius
     vec3 eval_sun(vec3 dir) const;
     vec3 eval_sky(vec3 dir) const;
     float pdf_sky(vec3 dir) const;

@@ -14,6 +14,15 @@ inline float power_heuristic(float pa, float pb) {
     return 1.f / (1.f + r * r);
 }
 
+// Weight of emission found by a BSDF-sampled ray when next-event estimation is on. With MIS, the power heuristic.
+// Without, light sampling alone counts an emitter, except one it can never pick (light pdf 0: an emitter whose
+// share of the power rounds to a selection probability of 0, or an unsampleable one): there the BSDF sample is
+// the only estimator, weight 1. The two weights of any direction still sum to 1, so both stay unbiased.
+inline float bsdf_hit_weight(bool mis, float bsdf_pdf, float light_pdf) {
+    if (mis) return power_heuristic(bsdf_pdf, light_pdf);
+    return light_pdf > 0.f ? 0.f : 1.f;
+}
+
 }  // namespace
 
 std::string RenderSettings::describe() const {
@@ -49,8 +58,8 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
                 const vec3 le = env.eval(ray.d);
                 if (!nee || specular_bounce)
                     L += beta * le;
-                else if (mis)
-                    L += beta * le * power_heuristic(prev_pdf, p_env * env.pdf(ray.d));
+                else
+                    L += beta * le * bsdf_hit_weight(mis, prev_pdf, p_env * env.pdf(ray.d));
             }
             break;
         }
@@ -64,9 +73,9 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         if (mat.has_emission() && (front || mat.two_sided_emission)) {
             if (!nee || specular_bounce) {
                 L += beta * mat.emission;
-            } else if (mis) {
+            } else {
                 const float light_pdf = (1.f - p_env) * lights.pdf(hit.prim, prev_p, sf.p, sf.ng);
-                L += beta * mat.emission * power_heuristic(prev_pdf, light_pdf);
+                L += beta * mat.emission * bsdf_hit_weight(mis, prev_pdf, light_pdf);
             }
         }
         if (depth >= settings.max_depth) break;
@@ -90,6 +99,15 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         // Veach's rule: a direction must be on the same side of both normals; where the shading normal
         // would make wo back-facing, shade with the geometric normal instead.
         if ((glm::dot(wo_world, ns) > 0.f) != (glm::dot(wo_world, ng) > 0.f)) ns = ng;
+        // Inside a dielectric, where the interpolated normal gives total internal reflection, the facet's own
+        // normal. Interpolated normals are not reciprocal for glass: reflection about them keeps |p x d| about the
+        // centre of a smooth-shaded sphere, so a path that once reflects totally inside can circle forever (0.9%
+        // of the paths into a coarse sphere reached the depth cap). The facets make a true polyhedron, which light
+        // leaves again (reversibility); refraction out and everything outside keep the smooth normals.
+        if (is_glass && !front && ns != ng) {
+            const float eta = std::get<Dielectric>(mat.bsdf).eta, cos_o = glm::dot(wo_world, ns);
+            if ((1.f - cos_o * cos_o) * eta * eta >= 1.f) ns = ng;
+        }
         const Frame frame(ns);
         const vec3 wo = frame.to_local(wo_world);
 
@@ -169,10 +187,21 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         }
 
         // BSDF sampling for the next direction.
-        const auto bs = sample(*bsdf, wo, u_lobe, u_bsdf);
+        auto bs = sample(*bsdf, wo, u_lobe, u_bsdf);
         if (!bs) break;
-        const vec3 wi_world = frame.to_world(bs->wi);
-        const float cos_g = glm::dot(wi_world, ng);
+        vec3 wi_world = frame.to_world(bs->wi);
+        float cos_g = glm::dot(wi_world, ng);
+        if (((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) && is_delta(*bsdf) && ns != ng) {
+            // A mirror or glass direction about the shading normal that crosses the facet on the wrong side (at a
+            // smooth-shaded silhouette): the surface itself is the facet here, so take this sample about the
+            // geometric normal. Each sample's weight stays the lobe's own (1 reflected, 1/eta^2 refracted), so
+            // no energy is lost or gained, where ending the path darkened the rim (tests/test_glass_furnace.cpp).
+            const Frame geometric(ng);
+            bs = sample(*bsdf, geometric.to_local(wo_world), u_lobe, u_bsdf);
+            if (!bs) break;
+            wi_world = geometric.to_world(bs->wi);
+            cos_g = glm::dot(wi_world, ng);
+        }
         if ((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) break;  // would leak through the surface
         beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
         if (!is_finite(beta) || is_black(beta)) break;

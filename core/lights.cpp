@@ -1,4 +1,4 @@
-// core/lights.cpp: power-proportional selection of emissive triangles and uniform area sampling.
+// core/lights.cpp: power-proportional selection of emissive triangles (exact alias table) and uniform area sampling.
 #include "core/lights.h"
 
 #include <algorithm>
@@ -25,15 +25,9 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials) {
     double total = 0.0;
     for (double w : power) total += w;
     m_total_power = static_cast<float>(total * kPi);
+    m_select = DiscreteDistribution(power);
     m_pmf.assign(scene.triangles.size(), 0.f);
-    m_cdf.resize(m_tris.size());
-    double acc = 0.0;
-    for (size_t k = 0; k < m_tris.size(); ++k) {
-        acc += power[k];
-        m_cdf[k] = static_cast<float>(acc / total);
-        m_pmf[m_tris[k]] = static_cast<float>(power[k] / total);
-    }
-    m_cdf.back() = 1.f;
+    for (size_t k = 0; k < m_tris.size(); ++k) m_pmf[m_tris[k]] = m_select.pmf(k);
     m_pdf_area.assign(scene.triangles.size(), 0.f);
     for (size_t k = 0; k < m_tris.size(); ++k) {
         const uint32_t tri = m_tris[k];
@@ -43,6 +37,12 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials) {
         m_pdf_area[tri] = m_pmf[tri] / m_area[k];
         m_emitters.push_back({p0, p1, p2, safe_normalize(glm::cross(p1 - p0, p2 - p0)), m.emission, m_pdf_area[tri],
                               m.two_sided_emission});
+        if (m.alpha_texture != kNoIndex && m.alpha_texture < scene.textures.size()) {
+            // The alpha test's lookup (core/accel.cpp): the texture at the interpolated uv (0 without uvs).
+            m_emitters.back().alpha = uint32_t(m_alpha.size());
+            m_alpha.push_back({&scene.textures[m.alpha_texture], scene.uv_at(tri, 0.f, 0.f), scene.uv_at(tri, 1.f, 0.f),
+                               scene.uv_at(tri, 0.f, 1.f)});
+        }
     }
 }
 

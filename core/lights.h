@@ -1,9 +1,13 @@
 // core/lights.h: emissive triangles as area lights. A triangle is chosen with probability proportional to its
-// power (luminance(Le) * area, doubled when two-sided) and a point on it uniformly by area; the pdf is then
+// power (luminance(Le) * area, doubled when two-sided), quantised by an exact alias table (DiscreteDistribution:
+// pmf() is the probability sample() picks it with), and a point on it uniformly by area; the pdf is then
 // converted to solid angle at the shading point: pdf_w = pdf_A * d^2 / |cos_light|.
-// Zero-area and non-emissive triangles are never chosen.
+// An emitter with an alpha cut-out (map_d, or map_Kd's alpha) emits alpha * Le at each point, light-sampled or hit.
+// Zero-area and non-emissive triangles are never chosen, nor are emitters whose share of the power is below
+// about 2^-24 (their pmf is 0): the integrator leaves those to BSDF sampling, as it does any emitter of pdf 0.
 #pragma once
 
+#include "core/distribution.h"
 #include "core/scene.h"
 #include "core/warp.h"
 
@@ -26,7 +30,8 @@ struct LightSample {
 class LightSet {
 public:
     LightSet() = default;
-    // Builds the distribution over the emissive triangles of `scene` using `materials`.
+    // Builds the distribution over the emissive triangles of `scene` using `materials`; keeps pointers into
+    // scene.textures.
     LightSet(const Scene& scene, const std::vector<Material>& materials);
 
     bool empty() const { return m_tris.empty(); }
@@ -47,7 +52,7 @@ public:
 
 private:
     std::vector<uint32_t> m_tris;   // emissive triangle indices
-    std::vector<float> m_cdf;       // cumulative, normalised; size m_tris.size()
+    DiscreteDistribution m_select;  // over m_tris, by power
     std::vector<float> m_area;      // per emissive triangle
     std::vector<float> m_pmf;       // per scene triangle (empty when there are no lights)
     // Gathered once so that a sample or pdf chases no indices and normalises nothing: per emissive triangle its
@@ -56,8 +61,15 @@ private:
         vec3 p0, p1, p2, n, emission;
         float pdf_area;  // pmf / area
         bool two_sided;
+        uint32_t alpha = kNoIndex;  // into m_alpha for an emitter with an alpha cut-out
+    };
+    // An emitter's alpha texture and its corners' uvs.
+    struct AlphaCut {
+        const Texture* texture;
+        vec2 uv0, uv1, uv2;
     };
     std::vector<Emitter> m_emitters;
+    std::vector<AlphaCut> m_alpha;
     std::vector<float> m_pdf_area;
     float m_total_power = 0.f;
 };
@@ -65,13 +77,7 @@ private:
 inline bool LightSet::sample(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
     const size_t n = m_tris.size();
     if (n == 0) return false;
-    // The first k with cdf[k] > u_select (a linear scan for a few emitters, a binary search beyond).
-    size_t k = 0;
-    if (n <= 8) {
-        while (k + 1 < n && !(u_select < m_cdf[k])) ++k;
-    } else {
-        k = std::min<size_t>(std::upper_bound(m_cdf.begin(), m_cdf.end(), u_select) - m_cdf.begin(), n - 1);
-    }
+    const size_t k = m_select.sample(u_select);
     const Emitter& e = m_emitters[k];
     const vec2 b = square_to_triangle(u);
     const float b0 = 1.f - b.x - b.y;
@@ -86,6 +92,12 @@ inline bool LightSet::sample(vec3 ref, float u_select, vec2 u, LightSample& ls) 
     const float cos_l = -glm::dot(ls.n, ls.wi);
     if (cos_l == 0.f) return false;
     ls.le = (cos_l > 0.f || e.two_sided) ? e.emission : vec3(0.f);
+    if (e.alpha != kNoIndex) {
+        // An alpha cut-out emits in proportion to its opacity: the expected emission a BSDF-sampled ray finds
+        // there, since the stochastic alpha test (core/accel.cpp) keeps such a hit with probability alpha.
+        const AlphaCut& a = m_alpha[e.alpha];
+        ls.le *= glm::clamp(a.texture->lookup(b0 * a.uv0 + b.x * a.uv1 + b.y * a.uv2).w, 0.f, 1.f);
+    }
     ls.pdf = e.pdf_area * d2 / std::fabs(cos_l);
     return ls.pdf > 0.f && std::isfinite(ls.pdf);
 }

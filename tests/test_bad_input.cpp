@@ -2,6 +2,7 @@
 // pv::Error naming the file and line, or loads with the documented warning; none crashes. Then the CLI:
 // `pathview render` with a missing scene or an unwritable output exits non-zero with one line naming the file.
 #include "core/error.h"
+#include "core/image_io.h"
 #include "core/obj_loader.h"
 #include "core/renderer.h"
 #include "core/scene_file.h"
@@ -235,6 +236,30 @@ TEST(BadInputCli, UnwritableOutputExitsNonZeroWithOneLine) {
         EXPECT_EQ(e.path().filename().string().find(as_dir.filename().string() + ".tmp"), std::string::npos)
             << "left " << e.path();
     fs::remove_all(as_dir);
+}
+
+// render, view and bench set a scene up through one function (issue 10, item 6): bench applies --environment and
+// --sun as render does. A scene without emitters gets the default sky; --environment 0 makes it black everywhere,
+// --sun then lights it. Before, bench ignored both (its reference was lit by the default sky).
+TEST(BadInputCli, BenchAppliesTheEnvironmentAndSunOverrides) {
+    const fs::path ref = fs::temp_directory_path() / ("pathview_cli_ref_" + std::to_string(::getpid()) + ".exr");
+    const std::string bench = "bench '" + data("crlf.obj") + "' --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind "
+                              "--seeds 1 --budget 0.001 --max-spp 1 --csv '' --svg '' -q --save-reference '" +
+                              ref.string() + "' --environment 0";
+    for (const bool sun : {false, true}) {
+        const RunResult r = run_pathview(bench + (sun ? " --sun 0.3,1,0.2" : ""));
+        ASSERT_EQ(r.exit_code, 0) << r.err;
+        const Image img = read_exr(ref.string());
+        double sum = 0.0;
+        for (const float v : img.rgb) sum += double(v);
+        if (sun) {
+            EXPECT_GT(sum, 0.0) << "--sun did not light the bench scene";
+        } else {
+            EXPECT_EQ(sum, 0.0) << "--environment 0 did not reach the bench scene";
+        }
+        EXPECT_EQ(r.err.find("default sky"), std::string::npos) << r.err;
+    }
+    fs::remove(ref);
 }
 
 }  // namespace
