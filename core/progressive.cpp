@@ -64,6 +64,21 @@ void ProgressiveRenderer::set_on_publish(std::function<void()> callback) {
 
 int ProgressiveRenderer::threads() const { return m_renderer.threads(); }
 
+void ProgressiveRenderer::request_partial() {
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_partial_requested = true;
+    }
+    m_wake.notify_one();
+}
+
+std::optional<PartialRender> ProgressiveRenderer::take_partial() {
+    std::lock_guard<std::mutex> lock(m_snapshot_mutex);
+    std::optional<PartialRender> out = std::move(m_partial);
+    m_partial.reset();
+    return out;
+}
+
 bool ProgressiveRenderer::latest(Snapshot& out) const {
     std::lock_guard<std::mutex> lock(m_snapshot_mutex);
     if (m_front.serial <= out.serial) return false;
@@ -98,6 +113,8 @@ bool ProgressiveRenderer::target_reached() const {
     return (m_target_spp > 0 && st.spp >= m_target_spp) || (m_target_seconds > 0.0 && st.seconds >= m_target_seconds);
 }
 
+bool ProgressiveRenderer::partial_due() const { return m_partial_requested && m_renderer.stats().spp > 0; }
+
 bool ProgressiveRenderer::should_render() const {
     // A new accumulation gets its first pass even while paused, so the picture follows the camera.
     return !target_reached() && (!m_paused || m_renderer.stats().spp == 0);
@@ -109,10 +126,12 @@ void ProgressiveRenderer::drive() {
     uint64_t generation = 0;
     RenderRequest request;
     for (;;) {
-        bool is_new = false;
+        bool is_new = false, make_partial = false;
         {
             std::unique_lock<std::mutex> lock(m_mutex);
-            m_wake.wait(lock, [&] { return m_quit || m_pending || (has_request && should_render()); });
+            m_wake.wait(lock, [&] {
+                return m_quit || m_pending || (has_request && (should_render() || partial_due()));
+            });
             if (m_quit) return;
             if (m_pending) {
                 request = std::move(*m_pending);
@@ -121,11 +140,32 @@ void ProgressiveRenderer::drive() {
                 m_cancel.store(false);
                 has_request = is_new = true;
             }
+            make_partial = has_request && !m_pending && m_partial_requested;
         }
         if (is_new) {
             if (!request.materials.empty()) m_renderer.set_materials(request.materials);
             if (request.environment) m_renderer.set_environment(*request.environment);
             m_renderer.restart(request.camera, request.settings, request.width, request.height);
+        }
+        // Between passes the film holds whole passes only; a new accumulation gets its first pass first.
+        if (make_partial && m_renderer.stats().spp > 0) {
+            const uint32_t spp = m_renderer.stats().spp;
+            PartialRender part = partial_from_renderer(m_renderer, {{m_renderer.next_sample() - spp, spp}});
+            std::function<void()> on_publish;
+            {
+                std::lock_guard<std::mutex> lock(m_mutex);
+                m_partial_requested = false;
+                on_publish = m_on_publish;
+            }
+            {
+                std::lock_guard<std::mutex> lock(m_snapshot_mutex);
+                m_partial = std::move(part);
+            }
+            if (on_publish) on_publish();
+        }
+        {
+            std::lock_guard<std::mutex> lock(m_mutex);
+            if (m_quit || m_pending || !has_request || !should_render()) continue;
         }
         // A cancelled pass leaves a partial film; the pending request restarts it before anything is published.
         if (!m_renderer.render_pass(&m_cancel)) continue;

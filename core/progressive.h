@@ -5,6 +5,7 @@
 // copy. Every snapshot carries the generation of the request it belongs to (restart() returns it).
 #pragma once
 
+#include "core/partial.h"
 #include "core/renderer.h"
 
 #include <chrono>
@@ -78,6 +79,11 @@ public:
     // Blocks until a snapshot of `generation` with spp >= min_spp is published, or the timeout passes
     // (tests and tools; the viewer never waits).
     bool wait_for(uint64_t generation, uint32_t min_spp, std::chrono::milliseconds timeout) const;
+    // Asks for the accumulation as a resumable partial render (core/partial.h; samples [0, spp)), made by the
+    // driver between passes, also while paused or stopped (after the first pass of a new accumulation). Once it is
+    // made, take_partial() returns it (once) and the on_publish callback runs.
+    void request_partial();
+    std::optional<PartialRender> take_partial();
     // Called on the driver thread after each publication (the viewer wakes its event loop with it).
     // Set before the first restart().
     void set_on_publish(std::function<void()> callback);
@@ -93,6 +99,7 @@ private:
     // Under m_mutex, on the driver thread.
     bool target_reached() const;
     bool should_render() const;
+    bool partial_due() const;  // a requested partial render can be made now
     void publish(uint64_t generation, bool target_reached);
 
     std::shared_ptr<const Scene> m_scene;
@@ -106,6 +113,7 @@ private:
     uint64_t m_generation = 0;   // of the last request posted
     bool m_paused = false;
     bool m_quit = false;
+    bool m_partial_requested = false;
     uint32_t m_target_spp = 0;
     double m_target_seconds = 0.0;
     std::function<void()> m_on_publish;
@@ -115,6 +123,7 @@ private:
     mutable std::condition_variable m_published;
     Snapshot m_front;
     Snapshot m_back;
+    std::optional<PartialRender> m_partial;  // made on request_partial(), until taken
 
     std::thread m_thread;  // last: started after everything above exists
 };

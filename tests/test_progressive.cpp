@@ -1,10 +1,12 @@
 // tests/test_progressive.cpp: the asynchronous driver's restart logic, without a window. Suites start with
 // "Progressive" so they are part of the TSan subset. Small images keep each test well under a second.
+#include "core/partial.h"
 #include "core/progressive.h"
 #include "core/scene_file.h"
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <thread>
 
 namespace pv {
@@ -172,4 +174,63 @@ TEST(ProgressiveRenderer, DestructorWhileRendering) {
     ProgressiveRenderer idle(cornell(), kThreads);  // never started: the destructor joins an idle driver
 }
 
+// ---------------------------------------------------------------- the viewer's resumable snapshot
+// request_partial(): the partial render (core/partial.h) is made between passes (its film is exactly that of spp
+// whole passes), also once rendering has stopped, and resuming it continues the accumulation bit for bit.
+
+namespace {
+
+// The film of passes [0, passes) of a fresh synchronous Renderer; with `from`, continued from that film.
+Film reference_film(int passes, const Film* from = nullptr, uint32_t first = 0) {
+    Renderer r(cornell(), 1);
+    const RenderRequest req = request(24, 16);
+    r.restart(req.camera, req.settings, req.width, req.height);
+    if (from) r.load_film(*from);
+    r.set_next_sample(first);
+    for (int i = 0; i < passes; ++i) r.render_pass();
+    return r.film();
+}
+
+bool same_pixels(const Film& a, const Film& b) {
+    return a.width() == b.width() && a.height() == b.height() &&
+           std::memcmp(a.pixels().data(), b.pixels().data(), a.pixels().size() * sizeof(FilmPixel)) == 0;
+}
+
+std::optional<PartialRender> wait_partial(ProgressiveRenderer& pr) {
+    for (int i = 0; i < 500; ++i) {
+        if (std::optional<PartialRender> p = pr.take_partial()) return p;
+        std::this_thread::sleep_for(10ms);
+    }
+    return std::nullopt;
+}
+
+TEST(ProgressiveRenderer, StoppedAccumulationResumesBitForBit) {
+    ProgressiveRenderer pr(cornell(), kThreads);
+    pr.set_target(6, 0.0);
+    const uint64_t g = pr.restart(request(24, 16));
+    ASSERT_TRUE(pr.wait_for(g, 6, 5s));
+    pr.request_partial();  // rendering has stopped at the target: the driver wakes for the request
+    const std::optional<PartialRender> part = wait_partial(pr);
+    ASSERT_TRUE(part);
+    EXPECT_EQ(format_ranges(part->ranges), "0:6");
+    EXPECT_TRUE(same_pixels(part->film, reference_film(6)));
+    EXPECT_FALSE(pr.take_partial());  // handed over once
+    // Resumed: 2 more passes from index 6 equal 8 passes.
+    EXPECT_TRUE(same_pixels(reference_film(2, &part->film, 6), reference_film(8)));
+}
+
+TEST(ProgressiveRenderer, RunningAccumulationGivesWholePasses) {
+    ProgressiveRenderer pr(cornell(), kThreads);
+    const uint64_t g = pr.restart(request(24, 16));
+    ASSERT_TRUE(pr.wait_for(g, 2, 5s));
+    pr.request_partial();
+    const std::optional<PartialRender> part = wait_partial(pr);
+    ASSERT_TRUE(part);
+    ASSERT_EQ(part->ranges.size(), 1u);
+    EXPECT_EQ(part->ranges[0].start, 0u);
+    EXPECT_GE(part->ranges[0].count, 2u);
+    EXPECT_TRUE(same_pixels(part->film, reference_film(int(part->ranges[0].count))));
+}
+
+}  // namespace
 }  // namespace pv

@@ -297,6 +297,11 @@ void Panel::snapshots(ViewState& state, PanelActions& act) {
     log_widget("save");
     ImGui::SameLine();
     ImGui::TextDisabled("to %s", state.snapshot_dir.c_str());
+    if (ImGui::Button("Save resumable EXR")) act.save_resumable = true;
+    log_widget("save_resumable");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("The accumulation's exact per-pixel sums (a partial render):\n"
+                          "pathview render --resume FILE --spp N -o OUT.exr adds N samples.");
     if (!state.snapshot_status.empty()) status_text(state.snapshot_status, state.snapshot_ok);
 }
 

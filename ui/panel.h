@@ -60,6 +60,7 @@ struct PanelActions {
     bool control_changed = false;  // pause or targets
     bool restart = false;
     bool save = false;
+    bool save_resumable = false;     // a partial render that `pathview render --resume` continues
     bool frame_all = false;
     bool reset_camera = false;
     bool load_scene = false;

@@ -29,19 +29,14 @@ std::string SnapshotSaver::next_path() {
     }
 }
 
-std::string SnapshotSaver::save(const Snapshot& s) {
+std::string SnapshotSaver::start(uint32_t spp, std::function<void(const std::string&)> write) {
     const std::string path = next_path();
-    Image image(s.width, s.height);
-    image.rgb = s.rgb;
-    Metadata metadata = s.metadata;
-    const uint32_t spp = s.spp;
-    m_jobs.push_back(std::async(std::launch::async, [path, spp, image = std::move(image),
-                                                     metadata = std::move(metadata), done = m_on_done] {
+    m_jobs.push_back(std::async(std::launch::async, [path, spp, write = std::move(write), done = m_on_done] {
         SaveResult r;
         r.path = path;
         r.spp = spp;
         try {
-            write_exr(path, image, metadata);
+            write(path);
             r.ok = true;
         } catch (const std::exception& e) {
             r.error = e.what();
@@ -50,6 +45,19 @@ std::string SnapshotSaver::save(const Snapshot& s) {
         return r;
     }));
     return path;
+}
+
+std::string SnapshotSaver::save(const Snapshot& s) {
+    Image image(s.width, s.height);
+    image.rgb = s.rgb;
+    return start(s.spp, [image = std::move(image), metadata = s.metadata](const std::string& path) {
+        write_exr(path, image, metadata);
+    });
+}
+
+std::string SnapshotSaver::save_partial(PartialRender part) {
+    const uint32_t spp = uint32_t(part.sample_count());
+    return start(spp, [part = std::move(part)](const std::string& path) { write_partial(path, part); });
 }
 
 std::vector<SaveResult> SnapshotSaver::finished() {

@@ -3,6 +3,7 @@
 // file and renames it, so a crash never leaves half a snapshot. The destructor waits for writes in flight.
 #pragma once
 
+#include "core/partial.h"
 #include "core/progressive.h"
 
 #include <functional>
@@ -27,12 +28,16 @@ public:
 
     // Starts writing the snapshot's mean image with its metadata; returns the path it will have.
     std::string save(const Snapshot& snapshot);
+    // Starts writing a partial render (core/partial.h): resumable with `pathview render --resume`.
+    std::string save_partial(PartialRender part);
     // Results of the writes that finished since the last call, in the order they were started.
     std::vector<SaveResult> finished();
     size_t in_flight() const { return m_jobs.size(); }
 
 private:
     std::string next_path();
+    // Writes with write(path) on a new thread; returns the path.
+    std::string start(uint32_t spp, std::function<void(const std::string&)> write);
     std::string m_folder;
     std::function<void()> m_on_done;
     unsigned m_next = 1;

@@ -284,6 +284,13 @@ bool Viewer::wait_for_work() {
         m_history.add(m_shown.spp, m_shown.seconds, m_shown.rel_mse);
         work = true;
     }
+    if (std::optional<PartialRender> part = m_renderer->take_partial()) {
+        const uint32_t spp = uint32_t(part->sample_count());
+        const std::string path = m_saver->save_partial(std::move(*part));
+        m_state.snapshot_status = "saving " + path + " (resumable)";
+        m_log.line("snapshot-start path=%s spp=%u resumable=1", path.c_str(), spp);
+        work = true;
+    }
     if (m_saver->in_flight()) {
         poll_saves();
         work = work || !m_saver->in_flight();
@@ -328,6 +335,11 @@ int Viewer::run() {
         const NavigationResult nav = m_navigation.handle(m_input, navigation_frame(dt), *m_camera, m_state, act);
         if (nav.quit) glfwSetWindowShouldClose(m_window, GLFW_TRUE);
         if (act.save) save();
+        if (act.save_resumable) {
+            m_renderer->request_partial();
+            m_state.snapshot_status = "preparing a resumable snapshot";
+            m_state.snapshot_ok = true;
+        }
         if (act.load_scene && m_loader.start([path = m_state.scene_path] { return pv::load_scene(path); },
                                              m_opt.threads)) {
             m_state.scene_loading = true;
