@@ -2,6 +2,7 @@
 #include "app/commands.h"
 
 #include "core/error.h"
+#include "core/file_io.h"
 #include "core/image_io.h"
 #include "core/partial.h"
 #include "core/renderer.h"
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <future>
 #include <memory>
 #include <mutex>
@@ -119,7 +121,9 @@ void run(RenderOptions& o) {
         const std::string ext = std::filesystem::path(out).extension().string();
         if (ext != ".exr" && ext != ".png" && ext != ".EXR" && ext != ".PNG")
             throw Error(out + ": unknown image format '" + ext + "'; expected .exr or .png");
+        check_writable(out);  // before the render, not after it
     }
+    check_film_memory(o.common.width, o.common.height);
 
     const bool tty = !o.quiet && isatty(STDERR_FILENO);
     const auto load_start = std::chrono::steady_clock::now();
@@ -189,7 +193,11 @@ void run(RenderOptions& o) {
 
     Image image = renderer.film().mean();
     if (o.exposure != 0.f)
-        for (float& v : image.rgb) v *= std::exp2(o.exposure);
+        for (float& v : image.rgb) {
+            // Overflow saturates: a file never holds Inf (the film's means are finite and non-negative).
+            const float s = v * std::exp2(o.exposure);
+            v = std::isfinite(s) ? s : std::numeric_limits<float>::max();
+        }
     std::optional<PartialRender> part;
     if (samples) {
         std::vector<SampleRange> ranges{{samples->start, renderer.stats().spp}};
@@ -233,12 +241,14 @@ void add_render_command(CLI::App& app) {
     auto* spp = cmd->add_option("--spp", o->spp, "Samples per pixel (default 64 when --time is not given)")
                     ->check(CLI::Range(1, 1 << 30));
     cmd->add_option("--time", o->seconds, "Render for this many seconds (whole passes)")
-        ->check(CLI::Range(0.0, 1e9))
+        ->check(finite_range(0, 1e9))
         ->excludes(spp);
     cmd->add_option("-o,--output", o->outs, "Output file: .exr or .png; repeat -o to write several")
         ->required()
         ->take_all();
-    cmd->add_option("--exposure", o->exposure, "Exposure in stops applied before writing")->capture_default_str();
+    cmd->add_option("--exposure", o->exposure, "Exposure in stops applied before writing")
+        ->check(finite_range(-64, 64))
+        ->capture_default_str();
     cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
     auto* samples = cmd->add_option("--samples", o->samples,
                                     "Render only the sample indices START..START+COUNT-1 (START:COUNT; with --time, "

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "core/camera.h"
+#include "core/image_io.h"
 #include "core/integrator.h"
 
 #include <CLI/CLI.hpp>
@@ -26,7 +27,13 @@ struct CommonOptions {
     std::string bookmark;                       // start from this saved camera
     std::vector<float> sun;                     // direction toward the sun
     std::optional<float> sun_irradiance, sun_radius;
+    double max_image_megapixels = double(ImageLimits{}.max_pixels) * 1e-6;  // memory budget of one image
 };
+
+// A CLI11 check: a finite number in [lo, hi] (CLI::Range lets NaN through and accepts inf).
+CLI::Validator finite_range(double lo, double hi);
+// Refuses, before anything is allocated, a film larger than the memory available (pv::Error with the figure).
+void check_film_memory(int width, int height);
 
 // Adds the shared options to a (sub)command.
 void add_common_options(CLI::App& cmd, CommonOptions& o);

@@ -2,10 +2,17 @@
 #include "app/commands.h"
 
 #include "core/error.h"
+#include "core/film.h"
+#include "core/image_io.h"
 #include "core/scene_file.h"
 
+#include <sched.h>
+#include <sys/resource.h>
+
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <thread>
 
 namespace pv::app {
 namespace {
@@ -18,13 +25,71 @@ bool parse_switch(const std::string& name, const std::string& value) {
 
 vec3 to_vec3(const std::vector<float>& v) { return vec3(v[0], v[1], v[2]); }
 
+// Bytes of memory this process can still get: MemAvailable, or less under a cgroup (v2) limit; 0 if unknown.
+uint64_t available_memory() {
+    uint64_t avail = 0;
+    if (std::FILE* f = std::fopen("/proc/meminfo", "r")) {
+        char line[256];
+        unsigned long long kb = 0;
+        while (std::fgets(line, sizeof line, f))
+            if (std::sscanf(line, "MemAvailable: %llu kB", &kb) == 1) avail = uint64_t(kb) * 1024;
+        std::fclose(f);
+    }
+    unsigned long long max = 0, cur = 0;
+    std::FILE* fm = std::fopen("/sys/fs/cgroup/memory.max", "r");
+    std::FILE* fc = std::fopen("/sys/fs/cgroup/memory.current", "r");
+    if (fm && fc && std::fscanf(fm, "%llu", &max) == 1 && std::fscanf(fc, "%llu", &cur) == 1 && max > cur)
+        avail = avail ? std::min<uint64_t>(avail, max - cur) : max - cur;
+    if (fm) std::fclose(fm);
+    if (fc) std::fclose(fc);
+    struct rlimit as {};
+    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
+        avail = avail ? std::min<uint64_t>(avail, uint64_t(as.rlim_cur)) : uint64_t(as.rlim_cur);
+    return avail;
+}
+
 }  // namespace
+
+CLI::Validator finite_range(double lo, double hi) {
+    char desc[96];
+    std::snprintf(desc, sizeof desc, "FINITE in [%g - %g]", lo, hi);
+    return CLI::Validator(
+        [lo, hi](std::string& s) -> std::string {
+            // CLI::Range lets NaN through (every comparison with NaN is false) and accepts inf.
+            double v = 0;
+            if (!CLI::detail::lexical_cast(s, v)) return "'" + s + "' is not a number";
+            if (!std::isfinite(v) || v < lo || v > hi) {
+                char msg[128];
+                std::snprintf(msg, sizeof msg, "%s is not a finite number in [%g, %g]", s.c_str(), lo, hi);
+                return msg;
+            }
+            return {};
+        },
+        desc);
+}
+
+void check_film_memory(int width, int height) {
+    // Per pixel: the film (sums in double) and the float image written at the end.
+    const double per_pixel = double(sizeof(FilmPixel) + 3 * sizeof(float));
+    const double need = per_pixel * double(width) * double(height);
+    const uint64_t avail = available_memory();
+    if (avail && need > double(avail)) {
+        char msg[256];
+        std::snprintf(msg, sizeof msg,
+                      "--width %d --height %d: the film needs about %.1f GB (%.0f bytes a pixel) but %.1f GB of "
+                      "memory are available; render a smaller image",
+                      width, height, need * 1e-9, per_pixel, double(avail) * 1e-9);
+        throw Error(msg);
+    }
+}
 
 void add_common_options(CLI::App& cmd, CommonOptions& o) {
     cmd.add_option("scene", o.scene, "Scene: a .json scene file or an .obj (default: the built-in Cornell box)");
     cmd.add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
     cmd.add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-    cmd.add_option("--threads", o.threads, "Render threads (0: all cores)")->check(CLI::Range(0, 1024))->capture_default_str();
+    cmd.add_option("--threads", o.threads, "Render threads (0: all cores; at most the cores this process may use)")
+        ->check(CLI::Range(0, 1024))
+        ->capture_default_str();
     cmd.add_option("--seed", o.settings.seed, "Random seed (the image depends only on it, not on threads)")
         ->capture_default_str();
     cmd.add_option("--max-depth", o.settings.max_depth,
@@ -36,26 +101,42 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
     cmd.add_option("--rr", o.rr, "Russian roulette: on|off")->capture_default_str();
     cmd.add_option("--sampler", o.sampler, "Sample generator: independent|sobol (Owen-scrambled, padded)")
         ->capture_default_str();
-    cmd.add_option("--eye", o.eye, "Camera position x,y,z")->expected(3)->delimiter(',');
-    cmd.add_option("--target", o.target, "Camera target x,y,z")->expected(3)->delimiter(',');
-    cmd.add_option("--up", o.up, "Camera up vector x,y,z")->expected(3)->delimiter(',');
-    cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->check(CLI::Range(0.01f, 179.f));
-    cmd.add_option("--aperture", o.aperture, "Thin-lens radius in scene units (0: pinhole)")->check(CLI::Range(0.f, 1e30f));
+    cmd.add_option("--eye", o.eye, "Camera position x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
+    cmd.add_option("--target", o.target, "Camera target x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
+    cmd.add_option("--up", o.up, "Camera up vector x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
+    cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->check(finite_range(0.01, 179));
+    cmd.add_option("--aperture", o.aperture, "Thin-lens radius in scene units (0: pinhole)")->check(finite_range(0, 1e30));
     cmd.add_option("--focus-distance", o.focus_distance, "Focus distance in scene units (0: at the target)")
-        ->check(CLI::Range(0.f, 1e30f));
+        ->check(finite_range(0, 1e30));
     cmd.add_option("--bookmark", o.bookmark, "Start from the camera bookmark of this name saved in the scene file");
     cmd.add_option("--environment", o.environment,
                    "Light from far away: r,g,b or one number (constant radiance), 'sky' (the default sky), or an "
                    "equirectangular map (.exr, .hdr, .png)");
-    cmd.add_option("--env-rotation", o.env_rotation, "Environment rotation about +y, degrees");
-    cmd.add_option("--env-strength", o.env_strength, "Environment radiance multiplier")->check(CLI::Range(0.f, 1e30f));
-    cmd.add_option("--sun", o.sun, "Add a sun in direction x,y,z (toward the sun)")->expected(3)->delimiter(',');
+    cmd.add_option("--env-rotation", o.env_rotation, "Environment rotation about +y, degrees")
+        ->check(finite_range(-1e30, 1e30));
+    cmd.add_option("--env-strength", o.env_strength, "Environment radiance multiplier")->check(finite_range(0, 1e30));
+    cmd.add_option("--sun", o.sun, "Add a sun in direction x,y,z (toward the sun)")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
     cmd.add_option("--sun-irradiance", o.sun_irradiance, "Sun irradiance on a surface facing it (default 5 with --sun)")
-        ->check(CLI::Range(0.f, 1e30f));
-    cmd.add_option("--sun-radius", o.sun_radius, "Sun angular radius, degrees (default 0.27)")->check(CLI::Range(0.01f, 45.f));
+        ->check(finite_range(0, 1e30));
+    cmd.add_option("--max-image-megapixels", o.max_image_megapixels,
+                   "Largest environment map or texture read, in megapixels (a 16384x8192 map is 134); larger or "
+                   "implausibly small files are refused before decoding")
+        ->check(finite_range(0.001, 1e6))
+        ->capture_default_str();
+    cmd.add_option("--sun-radius", o.sun_radius, "Sun angular radius, degrees (default 0.27)")->check(finite_range(0.01, 45));
 }
 
 void resolve_switches(CommonOptions& o) {
+    // TBB runs at most as many threads as the cores this process may use, whatever the arena asks for: report that.
+    cpu_set_t cpus;
+    const int usable = sched_getaffinity(0, sizeof cpus, &cpus) == 0 ? CPU_COUNT(&cpus)
+                                                                     : int(std::thread::hardware_concurrency());
+    if (usable > 0 && o.threads > usable) {
+        std::fprintf(stderr, "pathview: note: --threads %d: %d cores can be used here; rendering with %d threads\n",
+                     o.threads, usable, usable);
+        o.threads = usable;
+    }
+    set_image_limits(ImageLimits{uint64_t(o.max_image_megapixels * 1e6)});
     o.settings.light_sampling = parse_switch("light-sampling", o.light_sampling);
     o.settings.mis = parse_switch("mis", o.mis);
     o.settings.russian_roulette = parse_switch("rr", o.rr);

@@ -3,6 +3,7 @@
 #include "core/obj_loader.h"
 
 #include "core/error.h"
+#include "core/file_io.h"
 
 #include <tiny_obj_loader.h>
 
@@ -152,6 +153,35 @@ struct StringBuf : std::streambuf {
     explicit StringBuf(std::string& s) { setg(s.data(), s.data(), s.data() + s.size()); }
 };
 
+// Size limits of what the loader reads: far above real scenes (the largest OBJ in /work/shared/scenes is about
+// 100 MB), low enough that a wrong file is refused instead of filling memory.
+constexpr uint64_t kMaxObjBytes = uint64_t(8) << 30;
+constexpr uint64_t kMaxMtlBytes = uint64_t(256) << 20;
+
+// tinyobjloader's MaterialFileReader opens `mtllib` names with std::ifstream: a FIFO blocks it forever and
+// /dev/zero grows memory without limit. This reader takes regular files only, up to kMaxMtlBytes.
+class RegularMtlReader : public tinyobj::MaterialReader {
+public:
+    explicit RegularMtlReader(std::string dir) : m_dir(std::move(dir)) {}
+    bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                    std::map<std::string, int>* names, std::string* warn, std::string* err) override {
+        std::string text;
+        try {
+            text = read_regular_file(m_dir + name, kMaxMtlBytes, "an MTL material library");
+        } catch (const Error& e) {
+            if (warn) *warn += std::string(e.what()) + "\n";
+            return false;
+        }
+        StringBuf buf(text);
+        std::istream in(&buf);
+        tinyobj::LoadMtl(names, materials, &in, warn, err);
+        return true;
+    }
+
+private:
+    std::string m_dir;
+};
+
 Scene build_scene(std::string text, const std::string& file, const std::string& mtl_dir, const ObjOptions& options) {
     // A UTF-8 byte-order mark would make tinyobjloader skip the first line.
     Scene scene;
@@ -168,7 +198,7 @@ Scene build_scene(std::string text, const std::string& file, const std::string& 
     std::string warn, err;
     StringBuf buf(text);
     std::istream in(&buf);
-    tinyobj::MaterialFileReader reader(mtl_dir);
+    RegularMtlReader reader(mtl_dir);
     const bool ok = tinyobj::LoadObj(&attrib, &shapes, &mtls, &warn, &err, &in, mtl_dir.empty() ? nullptr : &reader,
                                      /*triangulate=*/true, /*default_vcols_fallback=*/false);
     if (!ok) {
@@ -194,7 +224,7 @@ Scene build_scene(std::string text, const std::string& file, const std::string& 
         const std::string key = found + (alpha ? "#alpha" : "");
         if (auto it = texture_cache.find(key); it != texture_cache.end()) return it->second;
         try {
-            scene.textures.push_back(Texture::load(found, alpha));
+            scene.textures.push_back(Texture::load(found, alpha, &scene.warnings));
         } catch (const Error& e) {
             scene.warnings.push_back(std::string(e.what()) + "; flat colour used for material '" + material + "'");
             return kNoIndex;
@@ -380,14 +410,7 @@ Material material_from_mtl(const std::string& name, vec3 kd, vec3 ks, vec3 ke, f
 }
 
 Scene load_obj(const std::string& path, const ObjOptions& options) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": no such file; expected an OBJ scene");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw Error(path + ": cannot open for reading");
-    const auto size = std::filesystem::file_size(path, ec);
-    std::string text(ec ? 0 : size, '\0');
-    if (!in.read(text.data(), static_cast<std::streamsize>(text.size())) && !text.empty())
-        throw Error(path + ": read error");
+    std::string text = read_regular_file(path, kMaxObjBytes, "an OBJ scene");
     std::string dir = std::filesystem::path(path).parent_path().string();
     if (dir.empty()) dir = ".";
     return build_scene(std::move(text), path, dir + "/", options);

@@ -3,46 +3,91 @@
 
 #include "core/environment.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "core/image_io.h"
 #include "core/obj_loader.h"
 
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
-#include <fstream>
-#include <unistd.h>
+#include <cstdio>
 
 namespace pv {
 namespace {
 
 using nlohmann::json;
+using Ptr = json::json_pointer;
+
+constexpr uint64_t kMaxJsonBytes = uint64_t(64) << 20;
 
 void use_default_sky_if_unlit(Scene& scene, bool lighting_given);
 
-vec3 read_vec3(const json& j, const std::string& file, const char* key) {
-    if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
-        throw Error(file + ": \"" + key + "\" must be an array of 3 numbers");
-    const vec3 v(j[0].get<float>(), j[1].get<float>(), j[2].get<float>());
-    if (!is_finite(v)) throw Error(file + ": \"" + key + "\" must be finite");
-    return v;
-}
+// Reads the values of one JSON scene file. Every error names the file and the JSON pointer of the key
+// ("scene.json: /camera/fov: expected a number in [0.01, 179]"); ranges are the CLI's (app/common.cpp).
+struct JsonReader {
+    std::string file;
+    std::vector<std::string>* warnings = nullptr;
 
-float read_float(const json& j, const std::string& file, const char* key) {
-    if (!j.is_number()) throw Error(file + ": \"" + key + "\" must be a number");
-    const float v = j.get<float>();
-    if (!std::isfinite(v)) throw Error(file + ": \"" + key + "\" must be finite");
-    return v;
-}
+    [[noreturn]] void fail(const Ptr& at, const std::string& what) const {
+        throw Error(file + ": " + (at.empty() ? std::string("/") : at.to_string()) + ": " + what);
+    }
+    // The object at `at`; keys other than `known` get a warning (a misspelt key would be ignored otherwise).
+    const json& object(const json& j, const Ptr& at, std::initializer_list<const char*> known) const {
+        if (!j.is_object()) fail(at, "expected an object");
+        if (warnings && known.size())
+            for (const auto& [key, value] : j.items()) {
+                bool ok = false;
+                for (const char* k : known) ok = ok || key == k;
+                if (!ok) warnings->push_back(file + ": " + (at / key).to_string() + ": unknown key, ignored");
+            }
+        return j;
+    }
+    float number(const json& j, const Ptr& at, float lo, float hi) const {
+        char range[96];
+        std::snprintf(range, sizeof range, "expected a number in [%g, %g]", double(lo), double(hi));
+        if (!j.is_number()) fail(at, range);
+        const double v = j.get<double>();
+        if (!std::isfinite(v) || v < double(lo) || v > double(hi)) fail(at, range);
+        return float(v);
+    }
+    vec3 vec(const json& j, const Ptr& at, float lo, float hi) const {
+        char range[128];
+        std::snprintf(range, sizeof range, "expected an array of 3 numbers in [%g, %g]", double(lo), double(hi));
+        if (!j.is_array() || j.size() != 3) fail(at, range);
+        vec3 v;
+        for (int i = 0; i < 3; ++i) {
+            if (!j[size_t(i)].is_number()) fail(at / size_t(i), range);
+            v[i] = number(j[size_t(i)], at / size_t(i), lo, hi);
+        }
+        return v;
+    }
+    vec3 direction(const json& j, const Ptr& at) const {
+        const vec3 v = vec(j, at, -1e30f, 1e30f);
+        if (!(glm::length(v) > 0.f)) fail(at, "expected a non-zero direction");
+        return v;
+    }
+    std::string string(const json& j, const Ptr& at) const {
+        if (!j.is_string()) fail(at, "expected a string");
+        return j.get<std::string>();
+    }
+    bool boolean(const json& j, const Ptr& at) const {
+        if (!j.is_boolean()) fail(at, "expected true or false");
+        return j.get<bool>();
+    }
+};
+
+constexpr float kBig = 1e30f;  // the CLI's upper bound of unbounded quantities
 
 // A camera object; keys it lacks keep the values of `base`.
-CameraDesc read_camera(const json& c, const std::string& file, CameraDesc base) {
-    if (!c.is_object()) throw Error(file + ": a camera must be an object");
-    if (c.contains("eye")) base.eye = read_vec3(c["eye"], file, "eye");
-    if (c.contains("target")) base.target = read_vec3(c["target"], file, "target");
-    if (c.contains("up")) base.up = read_vec3(c["up"], file, "up");
-    if (c.contains("fov")) base.vfov_deg = read_float(c["fov"], file, "fov");
-    if (c.contains("aperture")) base.aperture = read_float(c["aperture"], file, "aperture");
-    if (c.contains("focus_distance")) base.focus_distance = read_float(c["focus_distance"], file, "focus_distance");
+CameraDesc read_camera(const JsonReader& r, const json& j, const Ptr& at, CameraDesc base, bool is_bookmark) {
+    const json& c = is_bookmark ? r.object(j, at, {"name", "eye", "target", "up", "fov", "aperture", "focus_distance"})
+                                : r.object(j, at, {"eye", "target", "up", "fov", "aperture", "focus_distance"});
+    if (c.contains("eye")) base.eye = r.vec(c["eye"], at / "eye", -kBig, kBig);
+    if (c.contains("target")) base.target = r.vec(c["target"], at / "target", -kBig, kBig);
+    if (c.contains("up")) base.up = r.direction(c["up"], at / "up");
+    if (c.contains("fov")) base.vfov_deg = r.number(c["fov"], at / "fov", 0.01f, 179.f);
+    if (c.contains("aperture")) base.aperture = r.number(c["aperture"], at / "aperture", 0.f, kBig);
+    if (c.contains("focus_distance")) base.focus_distance = r.number(c["focus_distance"], at / "focus_distance", 0.f, kBig);
     return base;
 }
 
@@ -56,97 +101,107 @@ json camera_json(const CameraDesc& c) {
 }
 
 // Applies a material override: the "type" chooses the BSDF, other keys set its parameters.
-void apply_override(Material& m, const json& o, const std::string& file) {
+void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& at) {
+    const json& o = r.object(j, at, {"type", "base_color", "specular", "roughness", "ior", "emission"});
     vec3 base(0.8f), spec(0.04f);
     float rough = 0.2f, ior = 1.5f;
     if (auto* l = std::get_if<Lambertian>(&m.bsdf)) base = l->albedo;
     if (auto* g = std::get_if<Glossy>(&m.bsdf)) base = g->diffuse, spec = g->specular, rough = g->alpha;
-    if (auto* r = std::get_if<Mirror>(&m.bsdf)) spec = r->reflectance;
+    if (auto* mi = std::get_if<Mirror>(&m.bsdf)) spec = mi->reflectance;
     if (auto* d = std::get_if<Dielectric>(&m.bsdf)) ior = d->eta;
     std::string type = bsdf_type_name(m.bsdf);
-    if (o.contains("type")) type = o["type"].get<std::string>();
-    if (o.contains("base_color")) base = glm::clamp(read_vec3(o["base_color"], file, "base_color"), 0.f, 1.f);
-    if (o.contains("specular")) spec = glm::clamp(read_vec3(o["specular"], file, "specular"), 0.f, 1.f);
-    if (o.contains("roughness")) rough = glm::clamp(read_float(o["roughness"], file, "roughness"), kMinAlpha, 1.f);
-    if (o.contains("ior")) ior = read_float(o["ior"], file, "ior");
-    if (o.contains("emission")) m.emission = glm::max(read_vec3(o["emission"], file, "emission"), vec3(0.f));
+    if (o.contains("type")) {
+        type = r.string(o["type"], at / "type");
+        if (type != "diffuse" && type != "glossy" && type != "mirror" && type != "glass")
+            r.fail(at / "type", "unknown type '" + type + "'; expected diffuse, glossy, mirror or glass");
+    }
+    if (o.contains("base_color")) base = r.vec(o["base_color"], at / "base_color", 0.f, 1.f);
+    if (o.contains("specular")) spec = r.vec(o["specular"], at / "specular", 0.f, 1.f);
+    if (o.contains("roughness")) rough = std::max(kMinAlpha, r.number(o["roughness"], at / "roughness", 0.f, 1.f));
+    if (o.contains("ior")) ior = r.number(o["ior"], at / "ior", 1e-3f, 1e3f);
+    if (o.contains("emission")) m.emission = r.vec(o["emission"], at / "emission", 0.f, kBig);
     if (type == "diffuse") m.bsdf = Lambertian{base};
     else if (type == "glossy") m.bsdf = Glossy{base, spec, rough};
     else if (type == "mirror") m.bsdf = Mirror{spec};
-    else if (type == "glass") {
-        if (!(ior > 0.f)) throw Error(file + ": material '" + m.name + "': ior must be positive");
-        m.bsdf = Dielectric{ior};
-    } else
-        throw Error(file + ": material '" + m.name + "': unknown type '" + type +
-                    "'; expected diffuse, glossy, mirror or glass");
+    else m.bsdf = Dielectric{ior};
 }
 
 Scene load_json(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw Error(path + ": cannot open for reading");
+    const std::string text = read_regular_file(path, kMaxJsonBytes, "a JSON scene file");
     json j;
     try {
-        j = json::parse(in);
+        j = json::parse(text);
     } catch (const json::exception& e) {
         throw Error(path + ": invalid JSON: " + e.what());
     }
-    if (!j.is_object() || !j.contains("obj") || !j["obj"].is_string())
-        throw Error(path + ": expected an object with an \"obj\" file name");
+    std::vector<std::string> warnings;
+    const JsonReader r{path, &warnings};
+    const Ptr root;
+    r.object(j, root, {"obj", "camera", "background", "environment", "sun", "bookmarks", "two_sided_emitters",
+                       "materials"});
+    if (!j.contains("obj")) r.fail(root / "obj", "missing; expected the OBJ file name");
+    const std::string obj = r.string(j["obj"], root / "obj");
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
     ObjOptions opts;
-    if (j.contains("two_sided_emitters")) opts.two_sided_emission = j["two_sided_emitters"].get<bool>();
-    Scene scene = load_obj((dir / j["obj"].get<std::string>()).string(), opts);
+    if (j.contains("two_sided_emitters"))
+        opts.two_sided_emission = r.boolean(j["two_sided_emitters"], root / "two_sided_emitters");
+    // Everything in the JSON is checked before the (possibly long) OBJ load.
+    const json none = json::object();
+    const json& cam = j.contains("camera") ? j["camera"] : none;
+    read_camera(r, cam, root / "camera", CameraDesc{}, false);
+    if (j.contains("bookmarks") && !j["bookmarks"].is_array()) r.fail(root / "bookmarks", "expected an array");
+    const json& env = j.contains("environment")
+                          ? r.object(j["environment"], root / "environment", {"map", "color", "rotation", "strength"})
+                          : none;
+    const json& sun = j.contains("sun") ? r.object(j["sun"], root / "sun", {"direction", "irradiance", "angular_radius"})
+                                        : none;
+    const json& materials = j.contains("materials") ? r.object(j["materials"], root / "materials", {}) : none;
+
+    Scene scene = load_obj((dir / obj).string(), opts);
     scene.source = path;
-    try {
-        if (j.contains("background")) scene.background = glm::max(read_vec3(j["background"], path, "background"), vec3(0.f));
-        scene.camera = scene.framing_camera();
-        if (j.contains("camera")) {
-            scene.camera = read_camera(j["camera"], path, scene.camera);
-            scene.has_camera = true;
+    scene.warnings.insert(scene.warnings.end(), warnings.begin(), warnings.end());
+    const JsonReader rs{path, &scene.warnings};
+    if (j.contains("background")) scene.background = r.vec(j["background"], root / "background", 0.f, kBig);
+    scene.camera = scene.framing_camera();
+    if (j.contains("camera")) {
+        scene.camera = read_camera(r, cam, root / "camera", scene.camera, false);
+        scene.has_camera = true;
+    }
+    if (j.contains("bookmarks")) {
+        const json& list = j["bookmarks"];
+        for (size_t i = 0; i < list.size(); ++i) {
+            const Ptr at = root / "bookmarks" / i;
+            const json& b = rs.object(list[i], at, {});
+            std::string name = "view " + std::to_string(scene.bookmarks.size() + 1);
+            if (b.contains("name")) name = r.string(b["name"], at / "name");
+            scene.bookmarks.push_back(Scene::Bookmark{name, read_camera(rs, b, at, scene.camera, true)});
         }
-        if (j.contains("bookmarks")) {
-            if (!j["bookmarks"].is_array()) throw Error(path + ": \"bookmarks\" must be an array");
-            for (const json& b : j["bookmarks"]) {
-                Scene::Bookmark bm{b.value("name", std::string("view ") + std::to_string(scene.bookmarks.size() + 1)),
-                                   read_camera(b, path, scene.camera)};
-                scene.bookmarks.push_back(std::move(bm));
+    }
+    if (env.contains("map")) {
+        const std::string map = r.string(env["map"], root / "environment" / "map");
+        set_environment(scene, map == "sky" ? map : (dir / map).string());  // "sky": the default sky
+    }
+    if (env.contains("color")) scene.background = r.vec(env["color"], root / "environment" / "color", 0.f, kBig);
+    if (env.contains("rotation"))
+        scene.environment_rotation_deg = r.number(env["rotation"], root / "environment" / "rotation", -kBig, kBig);
+    if (env.contains("strength"))
+        scene.environment_strength = r.number(env["strength"], root / "environment" / "strength", 0.f, kBig);
+    if (sun.contains("direction")) scene.sun_direction = r.direction(sun["direction"], root / "sun" / "direction");
+    if (sun.contains("angular_radius"))
+        scene.sun_angular_radius_deg = r.number(sun["angular_radius"], root / "sun" / "angular_radius", 0.01f, 45.f);
+    if (sun.contains("irradiance")) {
+        const json& e = sun["irradiance"];
+        const Ptr at = root / "sun" / "irradiance";
+        scene.sun_irradiance = e.is_number() ? vec3(r.number(e, at, 0.f, kBig)) : r.vec(e, at, 0.f, kBig);
+    }
+    for (const auto& [name, o] : materials.items()) {
+        bool found = false;
+        for (Material& m : scene.materials)
+            if (m.name == name) {
+                apply_override(m, rs, o, root / "materials" / name);
+                found = true;
             }
-        }
-        if (j.contains("environment")) {
-            const json& e = j["environment"];
-            if (e.contains("map")) {
-                const std::string map = e["map"].get<std::string>();
-                set_environment(scene, map == "sky" ? map : (dir / map).string());  // "sky": the default sky
-            }
-            if (e.contains("color")) scene.background = glm::max(read_vec3(e["color"], path, "color"), vec3(0.f));
-            if (e.contains("rotation")) scene.environment_rotation_deg = read_float(e["rotation"], path, "rotation");
-            if (e.contains("strength")) scene.environment_strength = read_float(e["strength"], path, "strength");
-        }
-        if (j.contains("sun")) {
-            const json& sun = j["sun"];
-            if (sun.contains("direction")) scene.sun_direction = read_vec3(sun["direction"], path, "direction");
-            if (sun.contains("angular_radius"))
-                scene.sun_angular_radius_deg = read_float(sun["angular_radius"], path, "angular_radius");
-            if (sun.contains("irradiance")) {
-                const json& e = sun["irradiance"];
-                scene.sun_irradiance =
-                    glm::max(e.is_number() ? vec3(read_float(e, path, "irradiance")) : read_vec3(e, path, "irradiance"),
-                             vec3(0.f));
-            }
-        }
-        if (j.contains("materials")) {
-            for (const auto& [name, o] : j["materials"].items()) {
-                bool found = false;
-                for (Material& m : scene.materials)
-                    if (m.name == name) {
-                        apply_override(m, o, path);
-                        found = true;
-                    }
-                if (!found) scene.warnings.push_back(path + ": material override '" + name + "' matches no material");
-            }
-        }
-    } catch (const json::exception& e) {
-        throw Error(path + ": " + e.what());
+        if (!found) scene.warnings.push_back(path + ": material override '" + name + "' matches no material");
     }
     use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment") || j.contains("sun"));
     return scene;
@@ -171,12 +226,13 @@ std::string save_bookmark(const std::string& path, const std::string& name, cons
     json j = json::object();
     std::error_code ec;
     if (fs::exists(out, ec)) {
-        std::ifstream in(out);
+        const std::string text = read_regular_file(out, kMaxJsonBytes, "a JSON scene file");
         try {
-            j = json::parse(in);
+            j = json::parse(text);
         } catch (const json::exception& e) {
             throw Error(out + ": cannot add a bookmark: invalid JSON: " + e.what());
         }
+        if (!j.is_object()) throw Error(out + ": cannot add a bookmark: /: expected an object");
     }
     if (!is_json && !j.contains("obj")) j["obj"] = fs::path(path).filename().string();
     json& list = j["bookmarks"];
@@ -185,25 +241,13 @@ std::string save_bookmark(const std::string& path, const std::string& name, cons
     entry["name"] = name;
     bool replaced = false;
     for (json& b : list)
-        if (b.value("name", std::string()) == name) {
+        if (b.is_object() && b.contains("name") && b["name"] == name) {
             b = entry;
             replaced = true;
         }
     if (!replaced) list.push_back(entry);
-    const std::string tmp = out + ".tmp." + std::to_string(static_cast<long>(::getpid()));
-    {
-        std::ofstream f(tmp);
-        f << j.dump(2) << "\n";
-        if (!f) {
-            fs::remove(tmp, ec);
-            throw Error(out + ": cannot write the bookmark (permission denied or disk full?)");
-        }
-    }
-    fs::rename(tmp, out, ec);
-    if (ec) {
-        fs::remove(tmp, ec);
-        throw Error(out + ": cannot write the bookmark: " + ec.message());
-    }
+    const std::string text = j.dump(2) + "\n";
+    write_file_atomically(out, [&](int fd) { write_all(fd, text.data(), text.size(), out); });
     return out;
 }
 
@@ -245,21 +289,10 @@ void set_environment(Scene& scene, const std::string& spec) {
     if (spec == "sky") {
         map = make_default_sky();
     } else {
-        const std::string ext = std::filesystem::path(spec).extension().string();
-        if (ext == ".exr" || ext == ".EXR") {
-            const Image img = read_exr(spec);
-            std::vector<vec4> texels(size_t(img.width) * size_t(img.height));
-            for (size_t i = 0; i < texels.size(); ++i) {
-                const vec3 c(img.rgb[3 * i], img.rgb[3 * i + 1], img.rgb[3 * i + 2]);
-                texels[i] = vec4(is_finite(c) ? glm::max(c, vec3(0.f)) : vec3(0.f), 1.f);
-            }
-            map = Texture(img.width, img.height, std::move(texels));
-        } else {
-            std::error_code ec;
-            if (!std::filesystem::is_regular_file(spec, ec))
-                throw Error(spec + ": no such file; expected an environment map (.exr, .hdr, .png) or r,g,b");
-            map = Texture::load(spec);
-        }
+        std::error_code ec;
+        if (!std::filesystem::exists(spec, ec))
+            throw Error(spec + ": no such file; expected an environment map (.exr, .hdr, .png) or r,g,b");
+        map = Texture::load(spec, false, &scene.warnings);
     }
     scene.textures.push_back(std::move(map));
     scene.environment_map = static_cast<uint32_t>(scene.textures.size() - 1);

@@ -2,12 +2,19 @@
 #include "core/texture.h"
 
 #include "core/error.h"
+#include "core/file_io.h"
+#include "core/image_io.h"
 
 #include <stb_image.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <limits>
+#include <memory>
 
 namespace pv {
 namespace {
@@ -31,28 +38,216 @@ Texture::Texture(int width, int height, std::vector<vec4> texels)
         }
 }
 
-Texture Texture::load(const std::string& path, bool alpha_only) {
-    int w = 0, h = 0, n = 0;
-    std::vector<vec4> texels;
-    if (stbi_is_hdr(path.c_str())) {
-        float* data = stbi_loadf(path.c_str(), &w, &h, &n, 4);
-        if (!data) throw Error(path + ": cannot read image: " + (stbi_failure_reason() ? stbi_failure_reason() : "?"));
-        texels.resize(size_t(w) * size_t(h));
-        for (size_t i = 0; i < texels.size(); ++i)
-            texels[i] = vec4(data[4 * i], data[4 * i + 1], data[4 * i + 2], data[4 * i + 3]);
-        stbi_image_free(data);
-    } else {
-        unsigned char* data = stbi_load(path.c_str(), &w, &h, &n, 4);
-        if (!data) throw Error(path + ": cannot read image: " + (stbi_failure_reason() ? stbi_failure_reason() : "?"));
-        float table[256];
-        for (int i = 0; i < 256; ++i) table[i] = srgb_to_linear(float(i) / 255.f);
-        texels.resize(size_t(w) * size_t(h));
-        for (size_t i = 0; i < texels.size(); ++i)
-            texels[i] = vec4(table[data[4 * i]], table[data[4 * i + 1]], table[data[4 * i + 2]], float(data[4 * i + 3]) / 255.f);
-        if (alpha_only && (n == 1 || n == 3))
-            for (size_t i = 0; i < texels.size(); ++i) texels[i].w = float(data[4 * i]) / 255.f;
-        stbi_image_free(data);
+namespace {
+
+enum class Format { Png, Jpeg, Gif, Bmp, Psd, Pic, Pnm, Hdr, Exr, Other };
+
+bool starts_with(const std::string& s, const char* magic, size_t n) { return s.size() >= n && s.compare(0, n, magic, n) == 0; }
+
+Format sniff(const std::string& b) {
+    if (starts_with(b, "\x89PNG\r\n\x1a\n", 8)) return Format::Png;
+    if (starts_with(b, "\xff\xd8\xff", 3)) return Format::Jpeg;
+    if (starts_with(b, "GIF87a", 6) || starts_with(b, "GIF89a", 6)) return Format::Gif;
+    if (starts_with(b, "BM", 2)) return Format::Bmp;
+    if (starts_with(b, "8BPS", 4)) return Format::Psd;
+    if (starts_with(b, "\x53\x80\xf6\x34", 4)) return Format::Pic;
+    if (starts_with(b, "P5", 2) || starts_with(b, "P6", 2)) return Format::Pnm;
+    if (starts_with(b, "#?RADIANCE\n", 11) || starts_with(b, "#?RGBE\n", 7)) return Format::Hdr;
+    if (starts_with(b, "\x76\x2f\x31\x01", 4)) return Format::Exr;
+    return Format::Other;  // TGA has no magic number
+}
+
+// The most pixels one byte of a file can hold in each format, from its densest encoding: PNG deflate (1032:1) of
+// 1-bit rows; JPEG about 2 bits per 8x8 block of 4:2:0; GIF 12-bit LZW codes of up to 4096 pixels; BMP 1 bit a
+// pixel (stb reads no RLE BMP); TGA and PSD run-length packets of 128 pixels in 2 bytes; binary PNM (P5/P6) a byte
+// or more a pixel; Radiance RLE 127 pixels per 2 bytes in each of 4 channels. Softimage PIC and TGA, which has no
+// magic number to tell it by, get the loosest bound.
+double pixels_per_byte(Format f) {
+    switch (f) {
+    case Format::Png: return 8.0 * 1032.0;
+    case Format::Jpeg: return 1024.0;
+    case Format::Gif: return 4096.0;
+    case Format::Bmp: return 8.0;
+    case Format::Psd: return 128.0;
+    case Format::Pnm: return 1.0;
+    case Format::Hdr: return 16.0;
+    case Format::Exr: return kExrPixelsPerByte;
+    default: return 4096.0;
     }
+}
+
+// stb_image's failure strings are terse ("bad png sig") and, for some inputs, empty: a readable reason.
+std::string readable_reason(const char* stb) {
+    const std::string r = stb ? stb : "";
+    if (r == "unknown image type")
+        return "unknown or unsupported image format; expected PNG, JPEG, TGA, BMP, PSD, GIF, PNM (P5/P6), HDR or EXR";
+    if (r == "outofmem") return "out of memory";
+    bool printable = !r.empty();
+    for (unsigned char c : r) printable = printable && c >= 0x20 && c < 0x7f;
+    return printable ? "corrupt or unsupported image data (" + r + ")" : "corrupt or unsupported image data";
+}
+
+// A Radiance .hdr walked the way stb_image 2.27 decodes it, before stb sees it. stb loops forever on an RLE count
+// byte of 0 and at the end of data inside an RLE scanline (it reads zeros past the end, and a zero count makes no
+// progress), so both are refused here; stb's own errors (a run past the scanline's end) are refused with a
+// clearer message. Sets `truncated` when flat (non-RLE) data ends early, which stb decodes as black.
+void validate_hdr(const std::string& path, const std::string& b, bool& truncated) {
+    const auto* p = reinterpret_cast<const unsigned char*>(b.data());
+    const size_t n = b.size();
+    size_t pos = 0;
+    auto line = [&](std::string& out) {
+        const size_t end = b.find('\n', pos);
+        if (end == std::string::npos) return false;
+        out = b.substr(pos, std::min<size_t>(end - pos, 1023));
+        pos = end + 1;
+        return true;
+    };
+    std::string l;
+    bool rgbe = false;
+    line(l);
+    for (;;) {
+        if (!line(l)) throw Error(path + ": truncated Radiance HDR header (no blank line before the resolution)");
+        if (l.empty()) break;
+        if (l == "FORMAT=32-bit_rle_rgbe") rgbe = true;
+    }
+    if (!rgbe) throw Error(path + ": unsupported Radiance HDR format; expected FORMAT=32-bit_rle_rgbe");
+    const size_t res_start = pos;
+    if (!line(l)) l = b.substr(res_start);
+    long h = 0, w = 0;
+    char* end = nullptr;
+    if (l.compare(0, 3, "-Y ") != 0) throw Error(path + ": unsupported Radiance HDR layout '" + l.substr(0, 40) + "'; expected -Y height +X width");
+    h = std::strtol(l.c_str() + 3, &end, 10);
+    while (*end == ' ') ++end;
+    if (std::strncmp(end, "+X ", 3) != 0) throw Error(path + ": unsupported Radiance HDR layout; expected -Y height +X width");
+    w = std::strtol(end + 3, nullptr, 10);
+    check_declared_size(path, w, h, n, pixels_per_byte(Format::Hdr));
+    const uint64_t flat_bytes = 4ull * uint64_t(w) * uint64_t(h);
+    if (w < 8 || w >= 32768) {
+        truncated = n - pos < flat_bytes;
+        return;
+    }
+    for (long j = 0; j < h; ++j) {
+        if (pos + 4 > n) {
+            truncated = true;  // stb decodes the rest as flat zero pixels
+            return;
+        }
+        if (p[pos] != 2 || p[pos + 1] != 2 || (p[pos + 2] & 0x80)) {
+            // Not RLE: stb decodes everything from here on as flat pixels, restarting at the first one.
+            truncated = n - pos < flat_bytes;
+            return;
+        }
+        const long len = long(p[pos + 2]) << 8 | p[pos + 3];
+        if (len != w)
+            throw Error(path + ": corrupt Radiance HDR: scanline " + std::to_string(j) + " has length " +
+                        std::to_string(len) + "; expected " + std::to_string(w));
+        pos += 4;
+        for (int k = 0; k < 4; ++k)
+            for (long i = 0; i < w;) {
+                auto ends = [&] {
+                    return Error(path + ": truncated Radiance HDR: the data ends in scanline " + std::to_string(j + 1) +
+                                 " of " + std::to_string(h));
+                };
+                if (pos >= n) throw ends();
+                int count = p[pos++];
+                const bool run = count > 128;
+                if (run) count -= 128;
+                if (count == 0)
+                    throw Error(path + ": corrupt Radiance HDR: a run-length count of 0 in scanline " +
+                                std::to_string(j + 1));
+                if (count > w - i)
+                    throw Error(path + ": corrupt Radiance HDR: a run passes the end of scanline " + std::to_string(j + 1));
+                const size_t need = run ? 1 : size_t(count);
+                if (pos + need > n) throw ends();
+                pos += need;
+                i += count;
+            }
+    }
+}
+
+// sRGB to linear of 8-bit values, once.
+const float* srgb_table() {
+    static const auto table = [] {
+        std::array<float, 256> t{};
+        for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb_to_linear(float(i) / 255.f);
+        return t;
+    }();
+    return table.data();
+}
+
+struct StbFree {
+    void operator()(void* p) const { stbi_image_free(p); }
+};
+
+// Bytes past the file's end given to stb: it reads zeros past the end of data anyway, and the position it stops
+// at tells whether it needed bytes the file lacks (truncated).
+constexpr size_t kPadding = 64;
+
+// EXR radiance as texels: negative and non-finite values set to 0, alpha 1.
+Texture from_exr_texels(std::vector<vec4> texels, int w, int h) {
+    for (vec4& t : texels) t = is_finite(vec3(t)) ? vec4(glm::max(vec3(t), vec3(0.f)), 1.f) : vec4(0.f, 0.f, 0.f, 1.f);
+    return Texture(w, h, std::move(texels));
+}
+
+}  // namespace
+
+Texture Texture::load(const std::string& path, bool alpha_only, std::vector<std::string>* warnings) {
+    const char* what = "an image (PNG, JPEG, TGA, BMP, PSD, GIF, PNM, HDR or EXR)";
+    // An EXR is read by OpenEXR from the file, not copied into memory first.
+    if (sniff(read_regular_file_prefix(path, 4, what)) == Format::Exr) {
+        int w = 0, h = 0;
+        std::vector<vec4> texels = read_exr_rgba(path, w, h);
+        return from_exr_texels(std::move(texels), w, h);
+    }
+    // The largest file the budget can need: 16 bytes a pixel (16-bit RGBA PSD/PNM) and headers.
+    const uint64_t max_bytes = image_limits().max_pixels * 16 + (uint64_t(64) << 20);
+    return decode(read_regular_file(path, max_bytes, what), path, alpha_only, warnings);
+}
+
+Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_only, std::vector<std::string>* warnings) {
+    const Format format = sniff(bytes);
+    std::vector<vec4> texels;
+    int w = 0, h = 0, n = 0;
+    auto warn = [&](const std::string& what) {
+        if (warnings) warnings->push_back(path + ": " + what);
+    };
+    if (format == Format::Exr) {
+        texels = decode_exr_rgba(bytes, path, w, h);
+        return from_exr_texels(std::move(texels), w, h);
+    }
+    if (bytes.size() > size_t(std::numeric_limits<int>::max() - int(kPadding)))
+        throw Error(path + ": the file is too large for stb_image (2 GiB)");
+    bool truncated = false;
+    if (format == Format::Hdr) validate_hdr(path, bytes, truncated);
+    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    if (!stbi_info_from_memory(data, int(bytes.size()), &w, &h, &n))
+        throw Error(path + ": cannot read image: " + readable_reason(stbi_failure_reason()));
+    check_declared_size(path, w, h, bytes.size(), pixels_per_byte(format));
+
+    if (format == Format::Hdr) {
+        std::unique_ptr<float, StbFree> px(stbi_loadf_from_memory(data, int(bytes.size()), &w, &h, &n, 4));
+        bytes = std::string();
+        if (!px) throw Error(path + ": cannot read image: " + readable_reason(stbi_failure_reason()));
+        texels.resize(size_t(w) * size_t(h));
+        std::memcpy(static_cast<void*>(texels.data()), px.get(), texels.size() * sizeof(vec4));
+    } else {
+        const size_t size = bytes.size();
+        bytes.append(kPadding, '\0');
+        std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(fmemopen(bytes.data(), bytes.size(), "rb"), &std::fclose);
+        if (!f) throw Error(path + ": cannot read image: out of memory");
+        std::unique_ptr<stbi_uc, StbFree> px(stbi_load_from_file(f.get(), &w, &h, &n, 4));
+        if (!px) throw Error(path + ": cannot read image: " + readable_reason(stbi_failure_reason()));
+        truncated = uint64_t(std::ftell(f.get())) > size;
+        f.reset();
+        bytes = std::string();
+        const float* table = srgb_table();
+        const stbi_uc* q = px.get();
+        texels.resize(size_t(w) * size_t(h));
+        for (size_t i = 0; i < texels.size(); ++i)
+            texels[i] = vec4(table[q[4 * i]], table[q[4 * i + 1]], table[q[4 * i + 2]], float(q[4 * i + 3]) / 255.f);
+        if (alpha_only && (n == 1 || n == 3))
+            for (size_t i = 0; i < texels.size(); ++i) texels[i].w = float(q[4 * i]) / 255.f;
+    }
+    if (truncated) warn("the image data ends early (truncated file?); missing pixels are black");
     for (vec4& t : texels)
         if (!std::isfinite(t.x + t.y + t.z + t.w)) t = vec4(0.f, 0.f, 0.f, 1.f);
     return Texture(w, h, std::move(texels));

@@ -16,10 +16,18 @@ public:
     // Builds from linear RGBA texels, row 0 at the top.
     Texture(int width, int height, std::vector<vec4> texels);
 
-    // Loads PNG/JPG/TGA/BMP (sRGB colour, linear alpha) or HDR (linear) through stb_image.
+    // Loads PNG/JPG/TGA/BMP/PSD/GIF/PNM (sRGB colour, linear alpha) through stb_image, Radiance HDR (linear)
+    // through stb_image after checking its run-length data, or EXR (linear RGB, negatives and NaN set to 0) through
+    // OpenEXR. The format is told by the file's first bytes. Regular files only; the declared size is checked
+    // against the budget (core/image_io.h: image_limits()) before pixels are allocated.
     // alpha_only: the texture is a mask (map_d): alpha = its alpha channel if it has one, else its raw grey level.
-    // Throws pv::Error naming the file when it cannot be read.
-    static Texture load(const std::string& path, bool alpha_only = false);
+    // Throws pv::Error naming the file when it cannot be read; a file whose data ends early loads with its
+    // missing pixels black and a warning appended to *warnings (when given).
+    static Texture load(const std::string& path, bool alpha_only = false, std::vector<std::string>* warnings = nullptr);
+
+    // The same from the bytes of an image file in memory; `name` is used in messages (the fuzzer, tests).
+    static Texture decode(std::string bytes, const std::string& name, bool alpha_only = false,
+                          std::vector<std::string>* warnings = nullptr);
 
     vec4 lookup(vec2 uv) const;   // bilinear, repeat wrap
     int width() const { return m_width; }
