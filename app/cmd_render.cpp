@@ -1,6 +1,7 @@
 // app/cmd_render.cpp: `pathview render`: headless rendering to EXR or PNG, with a progress bar and a summary.
 #include "app/commands.h"
 
+#include "core/aov.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/renderer.h"
@@ -26,6 +27,7 @@ struct RenderOptions {
     std::vector<std::string> outs;  // every -o: the same render written to each
     float exposure = 0.f;
     bool quiet = false;
+    bool aovs = false;  // feature and film-statistics layers in the EXR (core/aov.h)
 };
 
 void progress_bar(double fraction, uint32_t spp, double seconds) {
@@ -104,11 +106,32 @@ void run(RenderOptions& o) {
     Image image = renderer.film().mean();
     if (o.exposure != 0.f)
         for (float& v : image.rgb) v *= std::exp2(o.exposure);
+    // AOVs: a first-hit feature pass after the render (the render loop itself is unchanged), then the layers.
+    std::vector<ExrLayer> layers;
+    double aov_seconds = 0.0;
+    if (o.aovs) {
+        const auto aov_start = std::chrono::steady_clock::now();
+        const SceneView view{&renderer.scene(), &renderer.materials(), &renderer.accel(), &renderer.lights(),
+                             &renderer.environment()};
+        layers.push_back(rgb_layer(image));
+        for (ExrLayer& l : feature_layers(render_features(view, renderer.camera(), image.width, image.height, 8,
+                                                          renderer.settings().seed)))
+            layers.push_back(std::move(l));
+        for (ExrLayer& l : film_layers(renderer.film())) layers.push_back(std::move(l));
+        aov_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - aov_start).count();
+    }
     std::string written;
     for (const std::string& out : o.outs) {
-        write_image(out, image, render_metadata(renderer));
+        const std::string ext = std::filesystem::path(out).extension().string();
+        if (o.aovs && (ext == ".exr" || ext == ".EXR"))
+            write_exr_layers(out, image.width, image.height, layers, render_metadata(renderer));
+        else
+            write_image(out, image, render_metadata(renderer));
         written += (written.empty() ? "" : ", ") + out;
     }
+    if (o.aovs && !o.quiet)
+        std::fprintf(stderr, "pathview: AOVs (albedo, normal, depth: 8 rays per pixel; sample count, variance, "
+                     "half means) in %.2f s\n", aov_seconds);
 
     const RenderStats& st = renderer.stats();
     const double secs = std::max(st.seconds, 1e-9);
@@ -142,6 +165,9 @@ void add_render_command(CLI::App& app) {
         ->take_all();
     cmd->add_option("--exposure", o->exposure, "Exposure in stops applied before writing")->capture_default_str();
     cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
+    cmd->add_flag("--aovs", o->aovs, "EXR outputs also hold first-hit albedo (Albedo.*), shading normal (Ns.*), "
+                  "depth (Z), SampleCount, Variance.* (of the mean) and the even/odd half means (even.*, odd.*); "
+                  "see core/aov.h");
     cmd->callback([o] { run(*o); });
 }
 
