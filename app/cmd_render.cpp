@@ -1,6 +1,7 @@
 // app/cmd_render.cpp: `pathview render`: headless rendering to EXR or PNG, with a progress bar and a summary.
 #include "app/commands.h"
 
+#include "core/aov.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/image_io.h"
@@ -33,6 +34,7 @@ struct RenderOptions {
     std::string resume;   // --resume PART.exr: continue a partial render
     std::string shard;    // --shard I/N: shard I of N of --spp's sample indices
     const CLI::App* cmd = nullptr;
+    bool aovs = false;  // feature and film-statistics layers in the EXR (core/aov.h)
 };
 
 // Options that --resume takes from the part instead (they define the image).
@@ -206,24 +208,43 @@ void run(RenderOptions& o) {
         part->info["pathview:scene_flags"] = scene_flags(o.common);
         if (resumed) add_summed_info(part->info, resumed->info);
     }
+    // AOVs: a first-hit feature pass after the render (the render loop itself is unchanged), then the layers.
+    std::vector<ExrLayer> layers;
+    double aov_seconds = 0.0;
+    if (o.aovs) {
+        const auto aov_start = std::chrono::steady_clock::now();
+        const SceneView view{&renderer.scene(), &renderer.materials(), &renderer.accel(), &renderer.lights(),
+                             &renderer.environment()};
+        layers.push_back(rgb_layer(image));
+        for (ExrLayer& l : feature_layers(render_features(view, renderer.camera(), image.width, image.height, 8,
+                                                          renderer.settings().seed)))
+            layers.push_back(std::move(l));
+        for (ExrLayer& l : film_layers(renderer.film())) layers.push_back(std::move(l));
+        aov_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - aov_start).count();
+    }
     std::string written;
     for (const std::string& out : o.outs) {
         const std::string ext = std::filesystem::path(out).extension().string();
         if (part && (ext == ".exr" || ext == ".EXR"))
             write_partial(out, *part);
+        else if (o.aovs && (ext == ".exr" || ext == ".EXR"))
+            write_exr_layers(out, image.width, image.height, layers, render_metadata(renderer));
         else
             write_image(out, image, render_metadata(renderer));
         written += (written.empty() ? "" : ", ") + out;
     }
+    if (o.aovs && !o.quiet)
+        std::fprintf(stderr, "pathview: AOVs (albedo, normal, depth: 8 rays per pixel; sample count, variance, "
+                     "half means) in %.2f s\n", aov_seconds);
 
     const RenderStats& st = renderer.stats();
     const double secs = std::max(st.seconds, 1e-9);
     if (renderer.settings().max_depth < RenderSettings{}.max_depth)
         std::fprintf(stderr, "pathview: note: --max-depth %d truncates paths, so the image is biased (darker) "
                      "compared with the unbounded default\n", renderer.settings().max_depth);
-    std::printf("pathview: %u spp in %.2f s, %s paths/s, %s rays/s (%s closest-hit + %s shadow), %.2f rays/path, "
+    std::printf("pathview: %u spp in %.2f s, estimated relMSE %.3g (half buffers), %s paths/s, %s rays/s (%s closest-hit + %s shadow), %.2f rays/path, "
                 "%llu dropped samples, %d threads, %s -> %s\n",
-                st.spp, st.seconds, format_si(double(st.paths) / secs).c_str(),
+                st.spp, st.seconds, renderer.film().estimated_rel_mse(), format_si(double(st.paths) / secs).c_str(),
                 format_si(double(st.rays + st.shadow_rays) / secs).c_str(), format_si(double(st.rays) / secs).c_str(),
                 format_si(double(st.shadow_rays) / secs).c_str(),
                 double(st.rays + st.shadow_rays) / double(std::max<uint64_t>(st.paths, 1)),
@@ -267,6 +288,9 @@ void add_render_command(CLI::App& app) {
         ->excludes(samples)
         ->excludes(resume);
     o->cmd = cmd;
+    cmd->add_flag("--aovs", o->aovs, "EXR outputs also hold first-hit albedo (Albedo.*), shading normal (Ns.*), "
+                  "depth (Z), SampleCount, Variance.* (of the mean) and the even/odd half means (even.*, odd.*); "
+                  "see core/aov.h");
     cmd->callback([o] { run(*o); });
 }
 

@@ -141,6 +141,10 @@ Metadata render_metadata(const Renderer& r) {
                            " --fov " + std::to_string(c.vfov_deg) + " --aperture " + std::to_string(c.aperture) +
                            " --focus-distance " + std::to_string(c.focus_distance);
     m["pathview:dropped_samples"] = std::to_string(st.dropped);
+    // The film's reference-free relMSE estimate of the mean image (even/odd half buffers, eps 0.01).
+    char est[32];
+    std::snprintf(est, sizeof est, "%.6g", r.film().estimated_rel_mse());
+    m["pathview:est_relmse"] = est;
     m["pathview:rays"] = std::to_string(st.rays + st.shadow_rays);
     m["pathview:scene"] = r.scene().source;
     m["pathview:threads"] = std::to_string(r.threads());

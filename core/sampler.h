@@ -1,8 +1,12 @@
 // core/sampler.h: per-sample random numbers. Values depend only on (pixel, sample index, seed, dimension),
 // never on threads or scheduling, so an image is bit-identical for any thread count. Two kinds:
 //   independent: PCG32 keyed on (pixel, index, seed); error falls as 1/spp.
-//   sobol: shuffled, Owen-scrambled Sobol padded per draw (core/sobol.h); each 1D/2D draw of the first 2^m samples
-//          of a pixel is stratified like a (0,m,2)-net. Use power-of-two spp to get its full benefit.
+//   sobol: shuffled, Owen-scrambled Sobol padded per draw (core/sobol.h), as two independent nets per pixel: the
+//          even samples 0, 2, 4, ... are points 0, 1, 2, ... of one scrambled sequence and the odd samples those of
+//          another, keyed on (pixel, index & 1). Each half's first 2^m samples are stratified like a (0,m,2)-net,
+//          and the halves are independent estimators, which the film's even/odd error estimate needs (one net
+//          over all samples makes 2k and 2k+1 an antithetic pair: the estimate was too high, its slope stuck near
+//          -1). Use power-of-two spp to get its full benefit.
 #pragma once
 
 #include "core/math.h"
@@ -35,8 +39,8 @@ public:
         if (m_kind == SamplerKind::Independent) {
             m_rng.seed(hash_combine(key, index), key);
         } else {
-            m_key = key;
-            m_rindex = reverse_bits32(index);
+            m_key = hash_combine(key, index & 1u);
+            m_rindex = reverse_bits32(index >> 1);
         }
         m_dim = 0;
     }

@@ -1,6 +1,7 @@
 // tests/test_sobol.cpp: the Owen-scrambled padded Sobol sampler (TEST-CATALOG 4.7, 4.8): every 2D draw of the
-// first 2^m samples of a pixel is a (0,m,2)-net (pbrt-v4's ElementaryIntervals test), 1D draws are stratified,
-// values are never 1.0, and the values depend only on (pixel, index, seed, dimension).
+// first 2^m even (or odd) samples of a pixel is a (0,m,2)-net (pbrt-v4's ElementaryIntervals test), 1D draws are
+// stratified, the even and odd halves are uncorrelated, values are never 1.0, and the values depend only on
+// (pixel, index, seed, dimension).
 #include "core/sampler.h"
 #include "core/sobol.h"
 
@@ -27,12 +28,13 @@ bool is_02_net(const std::vector<vec2>& pts, int m) {
     return true;
 }
 
-// Draws `draws` values (alternating 2D, 1D) of samples 0..n-1 of a pixel; returns draw `which` of each sample.
-std::vector<vec2> draw_2d(SamplerKind kind, uvec2 pixel, uint32_t seed, int n, int skip_2d) {
+// Skips `skip_2d` (2D, 1D) draw pairs, then returns the next 2D draw of samples parity, parity + 2, ...
+// (n samples of one half of a pixel).
+std::vector<vec2> draw_2d(SamplerKind kind, uvec2 pixel, uint32_t seed, int n, int skip_2d, uint32_t parity = 0) {
     Sampler s(seed, kind);
     std::vector<vec2> out;
     for (int i = 0; i < n; ++i) {
-        s.start(pixel, uint32_t(i));
+        s.start(pixel, 2 * uint32_t(i) + parity);
         for (int k = 0; k < skip_2d; ++k) {
             s.get2d();
             s.get1d();
@@ -71,23 +73,25 @@ TEST(Sobol, ElementaryIntervals2D) {
     for (int m = 0; m <= 10; ++m)
         for (uvec2 pixel : {uvec2(0, 0), uvec2(17, 3), uvec2(511, 400)})
             for (int dim = 0; dim < 4; ++dim)
-                EXPECT_TRUE(is_02_net(draw_2d(SamplerKind::Sobol, pixel, 7, 1 << m, dim), m))
-                    << "m=" << m << " pixel=" << pixel.x << "," << pixel.y << " draw=" << dim;
+                for (uint32_t parity : {0u, 1u})
+                    EXPECT_TRUE(is_02_net(draw_2d(SamplerKind::Sobol, pixel, 7, 1 << m, dim, parity), m))
+                        << "m=" << m << " pixel=" << pixel.x << "," << pixel.y << " draw=" << dim << " half=" << parity;
 }
 
 TEST(Sobol, Stratified1D) {
     for (int m = 0; m <= 10; ++m) {
         const int n = 1 << m;
-        for (int draw = 0; draw < 3; ++draw) {
-            Sampler s(3, SamplerKind::Sobol);
-            std::vector<int> count(size_t(n), 0);
-            for (int i = 0; i < n; ++i) {
-                s.start(uvec2(5, 9), uint32_t(i));
-                for (int k = 0; k < draw; ++k) s.get1d();
-                count[size_t(s.get1d() * float(n))]++;
+        for (int draw = 0; draw < 3; ++draw)
+            for (uint32_t parity : {0u, 1u}) {
+                Sampler s(3, SamplerKind::Sobol);
+                std::vector<int> count(size_t(n), 0);
+                for (int i = 0; i < n; ++i) {
+                    s.start(uvec2(5, 9), 2 * uint32_t(i) + parity);
+                    for (int k = 0; k < draw; ++k) s.get1d();
+                    count[size_t(s.get1d() * float(n))]++;
+                }
+                for (int c : count) ASSERT_EQ(c, 1) << "m=" << m << " draw=" << draw << " half=" << parity;
             }
-            for (int c : count) ASSERT_EQ(c, 1) << "m=" << m << " draw=" << draw;
-        }
     }
 }
 
@@ -150,6 +154,33 @@ TEST(Sobol, PixelsAreDecorrelated) {
     const double cov = sxy / n - sx / n * sy / n;
     const double r = cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
     EXPECT_LT(std::fabs(r), 4.0 / std::sqrt(double(n)));
+}
+
+TEST(Sobol, EvenAndOddHalvesAreUncorrelated) {
+    // The film's error estimate compares the even and odd half means, so they must be independent: for a 1D and a
+    // 2D draw, the correlation between samples 2k and 2k+1 of a pixel (over many pixels and k) must be that of
+    // independent values, |r| < 4 / sqrt(n). One net over all samples fails this: 2k and 2k+1 then fall into
+    // opposite halves of [0, 1) (r about -0.75).
+    Sampler s(11, SamplerKind::Sobol);
+    for (int draw = 0; draw < 3; ++draw) {
+        double sx = 0, sy = 0, sxy = 0, sxx = 0, syy = 0;
+        int n = 0;
+        for (uint32_t px = 0; px < 512; ++px)
+            for (uint32_t k = 0; k < 8; ++k) {
+                float v[2];
+                for (uint32_t parity : {0u, 1u}) {
+                    s.start(uvec2(px, 7), 2 * k + parity);
+                    const vec2 u2 = s.get2d();
+                    const float u1 = s.get1d();
+                    v[parity] = draw == 0 ? u2.x : draw == 1 ? u2.y : u1;
+                }
+                sx += v[0], sy += v[1], sxy += double(v[0]) * v[1], sxx += double(v[0]) * v[0], syy += double(v[1]) * v[1];
+                ++n;
+            }
+        const double cov = sxy / n - sx / n * sy / n;
+        const double r = cov / std::sqrt((sxx / n - sx / n * sx / n) * (syy / n - sy / n * sy / n));
+        EXPECT_LT(std::fabs(r), 4.0 / std::sqrt(double(n))) << "draw " << draw;
+    }
 }
 
 TEST(Sobol, ParseAndName) {

@@ -1,0 +1,211 @@
+// core/aov.cpp: the first-hit feature pass, the film's statistics as layers, and the multi-layer EXR writer.
+#include "core/aov.h"
+
+#include "core/error.h"
+#include "core/surface.h"
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfStringAttribute.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <unistd.h>
+
+#include <filesystem>
+
+namespace pv {
+namespace {
+
+constexpr int kMaxSpecularChain = 16;
+
+// The colour a denoiser should see: what the surface reflects at normal incidence, roughly its albedo.
+vec3 base_color(const Bsdf& bsdf) {
+    if (const auto* l = std::get_if<Lambertian>(&bsdf)) return l->albedo;
+    if (const auto* g = std::get_if<Glossy>(&bsdf)) return glm::min(g->diffuse + g->specular, vec3(1.f));
+    if (const auto* m = std::get_if<Mirror>(&bsdf)) return m->reflectance;
+    return vec3(1.f);
+}
+
+}  // namespace
+
+FeatureSample trace_features(const SceneView& view, Ray ray, Sampler& sampler) {
+    const Scene& scene = *view.scene;
+    FeatureSample out;
+    vec3 tint(1.f);
+    float travelled = 0.f;
+    for (int bounce = 0; bounce < kMaxSpecularChain; ++bounce) {
+        Hit hit;
+        if (!view.accel->intersect(ray, hit)) return FeatureSample{};
+        const SurfacePoint sf = surface_point(scene, hit);
+        travelled += glm::length(sf.p - ray.o);
+        const Material& mat = (*view.materials)[scene.material_ids[hit.prim]];
+        const bool front = glm::dot(ray.d, sf.ng) < 0.f;
+        vec3 ns = sf.ns;
+        if (glm::dot(ray.d, ns) > 0.f) ns = -ns;  // facing the arriving ray
+        if (!is_delta(mat.bsdf) || mat.has_emission()) {
+            vec3 albedo = base_color(mat.bsdf);
+            if (mat.base_color_texture != kNoIndex)
+                albedo = vec3(scene.textures[mat.base_color_texture].lookup(scene.uv_at(hit.prim, hit.u, hit.v)));
+            out.albedo = tint * albedo;
+            out.normal = ns;
+            out.depth = travelled;
+            return out;
+        }
+        // A delta surface: continue along its (chosen) specular direction, in the integrator's frame convention.
+        const bool is_glass = std::holds_alternative<Dielectric>(mat.bsdf);
+        const vec3 ng = (is_glass || front) ? sf.ng : -sf.ng;
+        const vec3 frame_n = (is_glass || front) ? sf.ns : -sf.ns;
+        const Frame frame((glm::dot(-ray.d, frame_n) > 0.f) == (glm::dot(-ray.d, ng) > 0.f) ? frame_n : ng);
+        const auto bs = sample(mat.bsdf, frame.to_local(-ray.d), sampler.get1d(), vec2(0.5f));
+        if (!bs) return FeatureSample{};
+        if (const auto* m = std::get_if<Mirror>(&mat.bsdf)) tint *= m->reflectance;  // glass: untinted
+        const vec3 wi = frame.to_world(bs->wi);
+        ray.o = offset_ray_origin(sf.p, glm::dot(wi, sf.ng) > 0.f ? sf.ng : -sf.ng, sf.p_error);
+        ray.d = wi;
+        ray.tmax = std::numeric_limits<float>::infinity();
+    }
+    return out;
+}
+
+FeatureImage render_features(const SceneView& view, const Camera& camera, int width, int height, int samples,
+                             uint32_t seed) {
+    FeatureImage img;
+    img.width = width;
+    img.height = height;
+    const size_t n = size_t(width) * size_t(height);
+    img.albedo.assign(n, vec3(0.f));
+    img.normal.assign(n, vec3(0.f));
+    img.depth.assign(n, 0.f);
+    const float inv = 1.f / float(std::max(samples, 1));
+    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+        enable_ftz_daz();
+        // Independent of the render's samples: a sampler of its own seed.
+        Sampler sampler(seed ^ 0x41f0u, SamplerKind::Independent);
+        for (int y = rows.begin(); y != rows.end(); ++y)
+            for (int x = 0; x < width; ++x) {
+                FeatureSample acc;
+                for (int s = 0; s < samples; ++s) {
+                    const Ray ray = camera_ray(camera, sampler, x, y, uint32_t(s));
+                    const FeatureSample f = trace_features(view, ray, sampler);
+                    acc.albedo += f.albedo;
+                    acc.normal += f.normal;
+                    acc.depth += f.depth;
+                }
+                const size_t i = size_t(y) * size_t(width) + size_t(x);
+                img.albedo[i] = acc.albedo * inv;
+                img.normal[i] = acc.normal * inv;  // averaged: shorter than 1 across an edge, as denoisers expect
+                img.depth[i] = acc.depth * inv;
+            }
+    });
+    return img;
+}
+
+std::vector<ExrLayer> film_layers(const Film& film) {
+    const size_t n = size_t(film.width()) * size_t(film.height());
+    ExrLayer count{{"SampleCount"}, std::vector<float>(n)};
+    ExrLayer var{{"Variance.R", "Variance.G", "Variance.B"}, film.variance_of_mean().rgb};
+    ExrLayer even{{"even.R", "even.G", "even.B"}, std::vector<float>(n * 3)};
+    ExrLayer odd{{"odd.R", "odd.G", "odd.B"}, std::vector<float>(n * 3)};
+    for (int y = 0, i = 0; y < film.height(); ++y)
+        for (int x = 0; x < film.width(); ++x, ++i) {
+            const FilmPixel& px = film.pixel(x, y);
+            count.data[size_t(i)] = float(px.n);
+            const uint32_t n_odd = px.n - px.n_even;
+            for (int c = 0; c < 3; ++c) {
+                const double se = px.sum_even[c], so = px.sum[c] - px.sum_even[c];
+                even.data[size_t(i) * 3 + size_t(c)] = px.n_even ? float(se / px.n_even) : 0.f;
+                odd.data[size_t(i) * 3 + size_t(c)] = n_odd ? float(so / n_odd) : 0.f;
+            }
+        }
+    return {std::move(count), std::move(var), std::move(even), std::move(odd)};
+}
+
+std::vector<ExrLayer> feature_layers(const FeatureImage& f) {
+    const size_t n = f.albedo.size();
+    ExrLayer albedo{{"Albedo.R", "Albedo.G", "Albedo.B"}, std::vector<float>(n * 3)};
+    ExrLayer normal{{"Ns.X", "Ns.Y", "Ns.Z"}, std::vector<float>(n * 3)};
+    ExrLayer depth{{"Z"}, f.depth};
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+            albedo.data[i * 3 + size_t(c)] = f.albedo[i][c];
+            normal.data[i * 3 + size_t(c)] = f.normal[i][c];
+        }
+    return {std::move(albedo), std::move(normal), std::move(depth)};
+}
+
+ExrLayer rgb_layer(const Image& image, const std::string& prefix) {
+    const std::string p = prefix.empty() ? "" : prefix + ".";
+    return ExrLayer{{p + "R", p + "G", p + "B"}, image.rgb};
+}
+
+void write_exr_layers(const std::string& path, int width, int height, const std::vector<ExrLayer>& layers,
+                      const Metadata& metadata) {
+    const size_t n = size_t(width) * size_t(height);
+    for (const ExrLayer& l : layers)
+        if (l.channels.empty() || l.data.size() != n * l.channels.size())
+            throw Error(path + ": cannot write EXR: layer " + (l.channels.empty() ? "?" : l.channels[0]) +
+                        " does not match the image size " + std::to_string(width) + "x" + std::to_string(height));
+    const auto dir = std::filesystem::path(path).parent_path();
+    std::error_code ec;
+    if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
+        throw Error(path + ": cannot write: folder '" + dir.string() + "' does not exist");
+    const std::string tmp = path + ".tmp." + std::to_string(static_cast<long>(::getpid()));
+    try {
+        Imf::Header header(width, height);
+        for (const ExrLayer& l : layers)
+            for (const std::string& c : l.channels) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+        for (const auto& [k, v] : metadata) header.insert(k, Imf::StringAttribute(v));
+        Imf::OutputFile file(tmp.c_str(), header);
+        Imf::FrameBuffer fb;
+        for (const ExrLayer& l : layers) {
+            const size_t xs = l.channels.size() * sizeof(float), ys = xs * size_t(width);
+            char* base = reinterpret_cast<char*>(const_cast<float*>(l.data.data()));
+            for (size_t c = 0; c < l.channels.size(); ++c)
+                fb.insert(l.channels[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
+        }
+        file.setFrameBuffer(fb);
+        file.writePixels(height);
+    } catch (const std::exception& e) {
+        std::filesystem::remove(tmp, ec);
+        throw Error(path + ": cannot write EXR: " + e.what());
+    }
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw Error(path + ": cannot write: " + ec.message());
+    }
+}
+
+ExrLayer read_exr_layer(const std::string& path, const std::vector<std::string>& channels, int* width, int* height) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": no such file; expected an EXR image");
+    try {
+        Imf::InputFile file(path.c_str());
+        const Imath::Box2i dw = file.header().dataWindow();
+        const long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
+        if (w <= 0 || h <= 0 || w * h > (1l << 28)) throw Error(path + ": EXR data window is empty or too large");
+        ExrLayer l{channels, std::vector<float>(size_t(w) * size_t(h) * channels.size())};
+        Imf::FrameBuffer fb;
+        const size_t xs = channels.size() * sizeof(float), ys = xs * size_t(w);
+        char* base = reinterpret_cast<char*>(l.data.data()) - (size_t(dw.min.x) * xs + size_t(dw.min.y) * ys);
+        for (size_t c = 0; c < channels.size(); ++c) {
+            if (!file.header().channels().findChannel(channels[c]))
+                throw Error(path + ": EXR has no channel " + channels[c]);
+            fb.insert(channels[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
+        }
+        file.setFrameBuffer(fb);
+        file.readPixels(dw.min.y, dw.max.y);
+        if (width) *width = int(w);
+        if (height) *height = int(h);
+        return l;
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw Error(path + ": cannot read EXR: " + e.what());
+    }
+}
+
+}  // namespace pv
