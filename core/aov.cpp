@@ -2,6 +2,7 @@
 #include "core/aov.h"
 
 #include "core/error.h"
+#include "core/exr_io.h"
 #include "core/surface.h"
 
 #include <ImfChannelList.h>
@@ -148,17 +149,11 @@ void write_exr_layers(const std::string& path, int width, int height, const std:
         if (l.channels.empty() || l.data.size() != n * l.channels.size())
             throw Error(path + ": cannot write EXR: layer " + (l.channels.empty() ? "?" : l.channels[0]) +
                         " does not match the image size " + std::to_string(width) + "x" + std::to_string(height));
-    const auto dir = std::filesystem::path(path).parent_path();
-    std::error_code ec;
-    if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
-        throw Error(path + ": cannot write: folder '" + dir.string() + "' does not exist");
-    const std::string tmp = path + ".tmp." + std::to_string(static_cast<long>(::getpid()));
-    try {
-        Imf::Header header(width, height);
-        for (const ExrLayer& l : layers)
-            for (const std::string& c : l.channels) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
-        for (const auto& [k, v] : metadata) header.insert(k, Imf::StringAttribute(v));
-        Imf::OutputFile file(tmp.c_str(), header);
+    Imf::Header header(width, height);
+    for (const ExrLayer& l : layers)
+        for (const std::string& c : l.channels) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    for (const auto& [k, v] : metadata) header.insert(k, Imf::StringAttribute(v));
+    write_exr_atomically(path, header, [&](Imf::OutputFile& file) {
         Imf::FrameBuffer fb;
         for (const ExrLayer& l : layers) {
             const size_t xs = l.channels.size() * sizeof(float), ys = xs * size_t(width);
@@ -168,26 +163,17 @@ void write_exr_layers(const std::string& path, int width, int height, const std:
         }
         file.setFrameBuffer(fb);
         file.writePixels(height);
-    } catch (const std::exception& e) {
-        std::filesystem::remove(tmp, ec);
-        throw Error(path + ": cannot write EXR: " + e.what());
-    }
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw Error(path + ": cannot write: " + ec.message());
-    }
+    });
 }
 
 ExrLayer read_exr_layer(const std::string& path, const std::vector<std::string>& channels, int* width, int* height) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": no such file; expected an EXR image");
+    ExrLayer l;
     try {
-        Imf::InputFile file(path.c_str());
+        read_exr_guarded(path, [&](Imf::InputFile& file) {
         const Imath::Box2i dw = file.header().dataWindow();
         const long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
         if (w <= 0 || h <= 0 || w * h > (1l << 28)) throw Error(path + ": EXR data window is empty or too large");
-        ExrLayer l{channels, std::vector<float>(size_t(w) * size_t(h) * channels.size())};
+        l = ExrLayer{channels, std::vector<float>(size_t(w) * size_t(h) * channels.size())};
         Imf::FrameBuffer fb;
         const size_t xs = channels.size() * sizeof(float), ys = xs * size_t(w);
         char* base = reinterpret_cast<char*>(l.data.data()) - (size_t(dw.min.x) * xs + size_t(dw.min.y) * ys);
@@ -200,12 +186,13 @@ ExrLayer read_exr_layer(const std::string& path, const std::vector<std::string>&
         file.readPixels(dw.min.y, dw.max.y);
         if (width) *width = int(w);
         if (height) *height = int(h);
-        return l;
+        });
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
         throw Error(path + ": cannot read EXR: " + e.what());
     }
+    return l;
 }
 
 }  // namespace pv

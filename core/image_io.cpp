@@ -2,6 +2,7 @@
 #include "core/image_io.h"
 
 #include "core/error.h"
+#include "core/exr_io.h"
 #include "core/file_io.h"
 
 #include <ImfChannelList.h>
@@ -88,26 +89,33 @@ float linear_to_srgb(float x) {
     return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.f / 2.4f) - 0.055f;
 }
 
-void write_exr(const std::string& path, const Image& image, const Metadata& metadata) {
+void write_exr_atomically(const std::string& path, const Imf::Header& header,
+                          const std::function<void(Imf::OutputFile&)>& fill) {
     write_file_atomically(path, [&](int fd) {
         FdOStream stream(fd, path);
         try {
-            Imf::Header header(image.width, image.height);
-            for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
-            for (const auto& [k, v] : metadata) header.insert(k, Imf::StringAttribute(v));
             Imf::OutputFile file(stream, header);
-            Imf::FrameBuffer fb;
-            const size_t xs = 3 * sizeof(float), ys = xs * size_t(image.width);
-            char* base = reinterpret_cast<char*>(const_cast<float*>(image.rgb.data()));
-            fb.insert("R", Imf::Slice(Imf::FLOAT, base, xs, ys));
-            fb.insert("G", Imf::Slice(Imf::FLOAT, base + sizeof(float), xs, ys));
-            fb.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xs, ys));
-            file.setFrameBuffer(fb);
-            file.writePixels(image.height);
+            fill(file);
         } catch (const std::exception& e) {
             throw Error(stream.error().empty() ? path + ": cannot write EXR: " + e.what() : stream.error());
         }
         stream.flush();  // after ~OutputFile wrote the offset table (a failure there is kept, not lost)
+    });
+}
+
+void write_exr(const std::string& path, const Image& image, const Metadata& metadata) {
+    Imf::Header header(image.width, image.height);
+    for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    for (const auto& [k, v] : metadata) header.insert(k, Imf::StringAttribute(v));
+    write_exr_atomically(path, header, [&](Imf::OutputFile& file) {
+        Imf::FrameBuffer fb;
+        const size_t xs = 3 * sizeof(float), ys = xs * size_t(image.width);
+        char* base = reinterpret_cast<char*>(const_cast<float*>(image.rgb.data()));
+        fb.insert("R", Imf::Slice(Imf::FLOAT, base, xs, ys));
+        fb.insert("G", Imf::Slice(Imf::FLOAT, base + sizeof(float), xs, ys));
+        fb.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xs, ys));
+        file.setFrameBuffer(fb);
+        file.writePixels(image.height);
     });
 }
 
@@ -268,8 +276,8 @@ void read_exr_stream(const std::string& path, Imf::IStream& stream, Fn&& fn) {
 
 // Opens an EXR for OpenEXR after the header walk; `fn` gets the Imf::InputFile.
 template <class Fn>
-void with_exr(const std::string& path, Fn&& fn) {
-    const uint64_t size = regular_file_size(path, "an EXR image");
+void with_exr(const std::string& path, Fn&& fn, const char* what = "an EXR image") {
+    const uint64_t size = regular_file_size(path, what);
     const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) throw Error(path + ": cannot open for reading: " + std::strerror(errno));
     struct Closer {
@@ -277,7 +285,7 @@ void with_exr(const std::string& path, Fn&& fn) {
         ~Closer() { ::close(fd); }
     } closer{fd};
     struct stat st {};
-    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) throw Error(path + ": not a regular file; expected an EXR image");
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) throw Error(path + ": not a regular file; expected " + what);
     // The header: the first 16 MiB at most (real headers, previews included, are far smaller).
     std::string head(size_t(std::min<uint64_t>(size, uint64_t(1) << 24)), '\0');
     size_t done = 0;
@@ -329,6 +337,10 @@ std::vector<vec4> read_rgba(const std::string& path, Imf::InputFile& file, int& 
 
 }  // namespace
 
+void read_exr_guarded(const std::string& path, const std::function<void(Imf::InputFile&)>& read, const char* what) {
+    with_exr(path, read, what);
+}
+
 Image read_exr(const std::string& path, Metadata* metadata) {
     Image img;
     with_exr(path, [&](Imf::InputFile& file) {
@@ -371,19 +383,6 @@ void write_png(const std::string& path, const Image& image, float exposure) {
     if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, px.data(), image.width * 3))
         throw Error(path + ": cannot encode PNG (out of memory?)");
     write_file_atomically(path, [&](int fd) { write_all(fd, png.data(), png.size(), path); });
-}
-
-void write_via_temporary(const std::string& path, const std::function<void(const std::string& tmp)>& write) {
-    check_folder(path);
-    const std::string tmp = temp_name(path);
-    try {
-        write(tmp);
-    } catch (const std::exception& e) {
-        std::error_code ec;
-        std::filesystem::remove(tmp, ec);
-        throw Error(path + ": cannot write: " + e.what());
-    }
-    commit(tmp, path);
 }
 
 void write_image(const std::string& path, const Image& image, const Metadata& metadata) {

@@ -48,10 +48,6 @@ void write_png(const std::string& path, const Image& image, float exposure = 0.f
 // Writes by extension: .exr or .png; anything else is an error.
 void write_image(const std::string& path, const Image& image, const Metadata& metadata = {});
 
-// Writes `path` through a temporary file in the same folder: write(tmp) creates the temporary, which is then renamed
-// to `path`. On failure the temporary is removed and pv::Error names `path`; `path` is never half-written.
-void write_via_temporary(const std::string& path, const std::function<void(const std::string& tmp)>& write);
-
 // sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
 float linear_to_srgb(float x);
 

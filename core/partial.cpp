@@ -3,6 +3,7 @@
 #include "core/partial.h"
 
 #include "core/error.h"
+#include "core/exr_io.h"
 #include "core/renderer.h"
 #include "core/rng.h"
 #include "core/version.h"
@@ -339,12 +340,11 @@ void write_partial(const std::string& path, const PartialRender& part) {
     std::snprintf(rel, sizeof rel, "%.6g", film.estimated_rel_mse());
     attrs["pathview:rel_mse_estimate"] = rel;
 
-    write_via_temporary(path, [&](const std::string& tmp) {
-        Imf::Header header(w, h);
-        for (const char* c : kRgb) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
-        for (const std::string& name : names) header.channels().insert(name, Imf::Channel(Imf::UINT));
-        for (const auto& [k, v] : attrs) header.insert(k, Imf::StringAttribute(v));
-        Imf::OutputFile file(tmp.c_str(), header);
+    Imf::Header header(w, h);
+    for (const char* c : kRgb) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    for (const std::string& name : names) header.channels().insert(name, Imf::Channel(Imf::UINT));
+    for (const auto& [k, v] : attrs) header.insert(k, Imf::StringAttribute(v));
+    write_exr_atomically(path, header, [&](Imf::OutputFile& file) {
         Imf::FrameBuffer fb;
         char* rgb = reinterpret_cast<char*>(const_cast<float*>(mean.rgb.data()));
         for (int c = 0; c < 3; ++c)
@@ -358,11 +358,9 @@ void write_partial(const std::string& path, const PartialRender& part) {
 }
 
 PartialRender read_partial(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": no such file; expected a partial render EXR");
     PartialRender part;
     try {
-        Imf::InputFile file(path.c_str());
+        read_exr_guarded(path, [&](Imf::InputFile& file) {
         const Imf::Header& header = file.header();
         Metadata attrs;
         for (auto it = header.begin(); it != header.end(); ++it)
@@ -442,6 +440,7 @@ PartialRender read_partial(const std::string& path) {
                             ") counts " + std::to_string(px[i].n) + " samples (" + std::to_string(px[i].n_even) +
                             " in the first half), more than its " + std::to_string(total) + "; the file is damaged");
         part.film = Film::from_pixels(int(w), int(h), std::move(px));
+        }, "a partial render EXR");
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {

@@ -22,12 +22,45 @@ namespace {
 // sRGB EOTF (IEC 61966-2-1).
 float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
+// The sRGB decoding of the 256 8-bit codes, as Texture::load applies it.
+const float* srgb_table() {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb_to_linear(float(i) / 255.f);
+        return t;
+    }();
+    return table.data();
+}
+
+bool same_bits(float a, float b) {
+    uint32_t x, y;
+    std::memcpy(&x, &a, 4);
+    std::memcpy(&y, &b, 4);
+    return x == y;
+}
+
+// The 8-bit sRGB code whose decoding is exactly v, or -1 (the table is increasing).
+int srgb_code(float v) {
+    const float* table = srgb_table();
+    const float* it = std::lower_bound(table, table + 256, v);
+    return it != table + 256 && same_bits(*it, v) ? int(it - table) : -1;
+}
+
+// The 8-bit code c with c / 255 exactly a (alpha is stored linear), or -1.
+int alpha_code(float a) {
+    if (!(a >= 0.f && a <= 1.f)) return -1;
+    const int c = int(std::lround(a * 255.f));
+    return same_bits(float(c) / 255.f, a) ? c : -1;
+}
+
 std::string lower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return s;
 }
 
 }  // namespace
+
+float srgb_code_to_linear(int c) { return srgb_table()[std::clamp(c, 0, 255)]; }
 
 Texture::Texture(int width, int height, std::vector<vec4> texels)
     : m_width(width), m_height(height), m_texels(std::move(texels)) {
@@ -36,6 +69,30 @@ Texture::Texture(int width, int height, std::vector<vec4> texels)
             m_has_alpha = true;
             break;
         }
+    // Keep 8-bit codes instead when every texel is one exactly (bit for bit, so lookups return the same values).
+    std::vector<uint32_t> codes(m_texels.size());
+    for (size_t i = 0; i < m_texels.size(); ++i) {
+        const vec4& t = m_texels[i];
+        const int r = srgb_code(t.x), g = srgb_code(t.y), b = srgb_code(t.z), a = alpha_code(t.w);
+        if ((r | g | b | a) < 0) return;
+        codes[i] = uint32_t(r) | uint32_t(g) << 8 | uint32_t(b) << 16 | uint32_t(a) << 24;
+    }
+    m_codes = std::move(codes);
+    m_texels = std::vector<vec4>();
+}
+
+std::vector<vec4> Texture::texels() const {
+    if (m_codes.empty()) return m_texels;
+    std::vector<vec4> out(m_codes.size());
+    for (size_t i = 0; i < out.size(); ++i) out[i] = texel(i);
+    return out;
+}
+
+inline vec4 Texture::texel(size_t i) const {
+    if (m_codes.empty()) return m_texels[i];
+    const float* table = srgb_table();
+    const uint32_t c = m_codes[i];
+    return vec4(table[c & 0xffu], table[(c >> 8) & 0xffu], table[(c >> 16) & 0xffu], float(c >> 24) / 255.f);
 }
 
 namespace {
@@ -164,16 +221,6 @@ void validate_hdr(const std::string& path, const std::string& b, bool& truncated
     }
 }
 
-// sRGB to linear of 8-bit values, once.
-const float* srgb_table() {
-    static const auto table = [] {
-        std::array<float, 256> t{};
-        for (int i = 0; i < 256; ++i) t[size_t(i)] = srgb_to_linear(float(i) / 255.f);
-        return t;
-    }();
-    return table.data();
-}
-
 struct StbFree {
     void operator()(void* p) const { stbi_image_free(p); }
 };
@@ -254,20 +301,25 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
 }
 
 vec4 Texture::lookup(vec2 uv) const {
-    if (m_texels.empty()) return vec4(1.f);
+    if (m_texels.empty() && m_codes.empty()) return vec4(1.f);
     // Texel centres at (i + 0.5) / width; v flipped because image row 0 is the top.
     const float x = uv.x * float(m_width) - 0.5f;
     const float y = (1.f - uv.y) * float(m_height) - 0.5f;
-    if (!std::isfinite(x) || !std::isfinite(y)) return m_texels[0];
+    if (!std::isfinite(x) || !std::isfinite(y)) return texel(0);
     const float fx = std::floor(x), fy = std::floor(y);
     const float tx = x - fx, ty = y - fy;
-    auto wrap = [](long long i, int n) { return static_cast<size_t>(((i % n) + n) % n); };
+    // i mod n in [0, n); no division when i is already in range (uv in [0, 1) but for the last half texel).
+    auto wrap = [](long long i, int n) {
+        if (i >= 0 && i < n) return static_cast<size_t>(i);
+        const long long r = i % n;
+        return static_cast<size_t>(r < 0 ? r + n : r);
+    };
     const long long ix = static_cast<long long>(fx), iy = static_cast<long long>(fy);
-    const size_t x0 = wrap(ix, m_width), x1 = wrap(ix + 1, m_width);
-    const size_t y0 = wrap(iy, m_height), y1 = wrap(iy + 1, m_height);
+    const size_t x0 = wrap(ix, m_width), x1 = x0 + 1 == size_t(m_width) ? 0 : x0 + 1;
+    const size_t y0 = wrap(iy, m_height), y1 = y0 + 1 == size_t(m_height) ? 0 : y0 + 1;
     const size_t w = size_t(m_width);
-    return (1.f - ty) * ((1.f - tx) * m_texels[y0 * w + x0] + tx * m_texels[y0 * w + x1]) +
-           ty * ((1.f - tx) * m_texels[y1 * w + x0] + tx * m_texels[y1 * w + x1]);
+    return (1.f - ty) * ((1.f - tx) * texel(y0 * w + x0) + tx * texel(y0 * w + x1)) +
+           ty * ((1.f - tx) * texel(y1 * w + x0) + tx * texel(y1 * w + x1));
 }
 
 std::string resolve_texture_path(const std::string& dir, const std::string& name) {

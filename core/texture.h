@@ -1,6 +1,8 @@
 // core/texture.h: 2D image textures for base colour (map_Kd) and alpha (map_d, or map_Kd's alpha channel).
-// Stored linear (8-bit colour images are sRGB-decoded on load; HDR images are already linear); bilinear
-// lookup with repeat wrapping. uv follows OBJ: v = 0 is the bottom row of the image.
+// Linear values (8-bit colour images are sRGB-decoded on load; HDR images are already linear); bilinear
+// lookup with repeat wrapping. uv follows OBJ: v = 0 is the bottom row of the image. A texture whose every texel
+// is an 8-bit sRGB code (what an 8-bit image decodes to) is stored as those codes, 4 bytes a texel instead of 16,
+// and decoded per lookup through a 256-entry table: the same values, a quarter of the memory traffic.
 #pragma once
 
 #include "core/math.h"
@@ -33,14 +35,20 @@ public:
     int width() const { return m_width; }
     int height() const { return m_height; }
     bool has_alpha() const { return m_has_alpha; }
-    size_t bytes() const { return m_texels.size() * sizeof(vec4); }
-    const std::vector<vec4>& texels() const { return m_texels; }  // row 0 at the top
+    size_t bytes() const { return m_texels.size() * sizeof(vec4) + m_codes.size() * sizeof(uint32_t); }
+    // The linear texels, row 0 at the top (decoded from the 8-bit codes when kept as codes).
+    std::vector<vec4> texels() const;
 
 private:
+    vec4 texel(size_t i) const;
     int m_width = 0, m_height = 0;
     bool m_has_alpha = false;
-    std::vector<vec4> m_texels;
+    std::vector<vec4> m_texels;     // linear texels, when not every texel is an 8-bit code
+    std::vector<uint32_t> m_codes;  // else: R, G, B (sRGB codes) and A (linear code) from the low byte up
 };
+
+// The linear value of 8-bit sRGB code c in [0, 255] (IEC 61966-2-1), as 8-bit images are decoded.
+float srgb_code_to_linear(int c);
 
 // Finds `name` relative to `dir`: exactly, else a case-insensitive match of each path component (archive scenes
 // name "SP_LUK.JPG" for "sp_luk.JPG"). Returns the path found, or an empty string.
