@@ -18,8 +18,6 @@ struct CommonOptions {
     int width = 512, height = 512;
     int threads = 0;             // 0: all cores
     RenderSettings settings;
-    std::string light_sampling = "on", mis = "on", rr = "on";
-    std::string sampler = sampler_name(RenderSettings{}.sampler);
     std::vector<float> eye, target, up;
     std::optional<float> fov, aperture, focus_distance;
     std::string environment;                    // "r,g,b", a number, a map file, or "sky"
@@ -37,7 +35,8 @@ void check_film_memory(int width, int height);
 
 // Adds the shared options to a (sub)command.
 void add_common_options(CLI::App& cmd, CommonOptions& o);
-// Applies the on|off switches to o.settings; throws pv::Error on a bad value.
+// After parsing: caps --threads at the cores this process may use (saying so) and applies the image budget.
+// (The on|off and sampler options bind straight to o.settings through CLI11 transformers.)
 void resolve_switches(CommonOptions& o);
 // Applies --bookmark (a camera saved in the scene file), then the camera flags, to `camera`.
 void apply_camera_overrides(const CommonOptions& o, const Scene& scene, CameraDesc& camera);

@@ -17,10 +17,41 @@
 namespace pv::app {
 namespace {
 
-bool parse_switch(const std::string& name, const std::string& value) {
-    if (value == "on") return true;
-    if (value == "off") return false;
-    throw Error("--" + name + " " + value + ": expected on or off");
+// A CLI11 transformer from words to the option's values (as the text CLI11 then converts: "1"/"0" for a bool, the
+// integer of an enum), so a switch binds straight to its setting; any other word is refused listing the choices.
+CLI::Validator choices(std::vector<std::pair<std::string, int>> words) {
+    std::string names;
+    for (const auto& [w, v] : words) names += (names.empty() ? "" : "|") + w;
+    return CLI::Validator(
+        [words, names](std::string& s) -> std::string {
+            for (const auto& [w, v] : words)
+                if (s == w) {
+                    s = std::to_string(v);
+                    return {};
+                }
+            return "'" + s + "': expected " + names;
+        },
+        names);
+}
+
+const CLI::Validator kOnOff = choices({{"on", 1}, {"off", 0}});
+std::string on_off(bool b) { return b ? "on" : "off"; }
+
+// "r,g,b" or one number, as a colour; nothing when `s` is not such a list (then it names a map or "sky").
+std::optional<vec3> parse_colour(const std::string& s) {
+    std::vector<float> values;
+    for (size_t pos = 0; pos <= s.size();) {
+        const size_t comma = std::min(s.find(',', pos), s.size());
+        const std::string part = s.substr(pos, comma - pos);
+        char* end = nullptr;
+        const float v = std::strtof(part.c_str(), &end);
+        if (part.empty() || end != part.c_str() + part.size()) return std::nullopt;
+        values.push_back(v);
+        pos = comma + 1;
+    }
+    if (values.size() == 1) return vec3(values[0]);
+    if (values.size() == 3) return vec3(values[0], values[1], values[2]);
+    return std::nullopt;
 }
 
 vec3 to_vec3(const std::vector<float>& v) { return vec3(v[0], v[1], v[2]); }
@@ -96,11 +127,19 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                    "Maximum number of scattering events (0: emitters seen directly only)")
         ->check(CLI::Range(0, 100000))
         ->capture_default_str();
-    cmd.add_option("--light-sampling", o.light_sampling, "Next-event estimation: on|off")->capture_default_str();
-    cmd.add_option("--mis", o.mis, "Multiple importance sampling of light and BSDF samples: on|off")->capture_default_str();
-    cmd.add_option("--rr", o.rr, "Russian roulette: on|off")->capture_default_str();
-    cmd.add_option("--sampler", o.sampler, "Sample generator: independent|sobol (Owen-scrambled, padded)")
-        ->capture_default_str();
+    cmd.add_option("--light-sampling", o.settings.light_sampling, "Next-event estimation: on|off")
+        ->transform(kOnOff)
+        ->default_str(on_off(o.settings.light_sampling));
+    cmd.add_option("--mis", o.settings.mis, "Multiple importance sampling of light and BSDF samples: on|off")
+        ->transform(kOnOff)
+        ->default_str(on_off(o.settings.mis));
+    cmd.add_option("--rr", o.settings.russian_roulette, "Russian roulette: on|off")
+        ->transform(kOnOff)
+        ->default_str(on_off(o.settings.russian_roulette));
+    cmd.add_option("--sampler", o.settings.sampler, "Sample generator: independent|sobol (Owen-scrambled, padded)")
+        ->transform(choices({{"independent", int(SamplerKind::Independent)}, {"ind", int(SamplerKind::Independent)},
+                             {"sobol", int(SamplerKind::Sobol)}}))
+        ->default_str(sampler_name(o.settings.sampler));
     cmd.add_option("--eye", o.eye, "Camera position x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
     cmd.add_option("--target", o.target, "Camera target x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
     cmd.add_option("--up", o.up, "Camera up vector x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
@@ -137,12 +176,6 @@ void resolve_switches(CommonOptions& o) {
         o.threads = usable;
     }
     set_image_limits(ImageLimits{uint64_t(o.max_image_megapixels * 1e6)});
-    o.settings.light_sampling = parse_switch("light-sampling", o.light_sampling);
-    o.settings.mis = parse_switch("mis", o.mis);
-    o.settings.russian_roulette = parse_switch("rr", o.rr);
-    const auto kind = parse_sampler(o.sampler);
-    if (!kind) throw Error("--sampler " + o.sampler + ": expected independent or sobol");
-    o.settings.sampler = *kind;
 }
 
 void apply_camera_overrides(const CommonOptions& o, const Scene& scene, CameraDesc& c) {
@@ -157,7 +190,14 @@ void apply_camera_overrides(const CommonOptions& o, const Scene& scene, CameraDe
 
 void apply_scene_overrides(const CommonOptions& o, Scene& scene) {
     if (!o.environment.empty()) {
-        set_environment(scene, o.environment);
+        if (const std::optional<vec3> colour = parse_colour(o.environment)) {
+            if (!is_finite(*colour) || glm::any(glm::lessThan(*colour, vec3(0.f))))
+                throw Error("--environment " + o.environment + ": a colour must be finite and non-negative");
+            scene.background = *colour;
+            scene.environment_map = kNoIndex;
+        } else {
+            set_environment_map(scene, o.environment);
+        }
         // The default-sky notice no longer applies.
         if (scene.default_sky_warning && *scene.default_sky_warning < scene.warnings.size())
             scene.warnings.erase(scene.warnings.begin() + std::ptrdiff_t(*scene.default_sky_warning));

@@ -179,7 +179,7 @@ Scene load_json(const std::string& path) {
     }
     if (env.contains("map")) {
         const std::string map = r.string(env["map"], root / "environment" / "map");
-        set_environment(scene, map == "sky" ? map : (dir / map).string());  // "sky": the default sky
+        set_environment_map(scene, map == "sky" ? map : (dir / map).string());  // "sky": the default sky
     }
     if (env.contains("color")) scene.background = r.vec(env["color"], root / "environment" / "color", 0.f, kBig);
     if (env.contains("rotation"))
@@ -210,7 +210,7 @@ Scene load_json(const std::string& path) {
 
 void use_default_sky_if_unlit(Scene& scene, bool lighting_given) {
     if (lighting_given || scene.has_emitters() || scene.triangles.empty()) return;
-    set_environment(scene, "sky");
+    set_environment_map(scene, "sky");
     scene.default_sky_warning = scene.warnings.size();
     scene.warnings.push_back(scene.source +
                              ": the scene has no emitter; lit by the default sky (--environment overrides)");
@@ -260,38 +260,14 @@ const CameraDesc& find_bookmark(const Scene& scene, const std::string& name) {
     throw Error(scene.source + ": no bookmark '" + name + "'; the scene has: " + (names.empty() ? "none" : names));
 }
 
-void set_environment(Scene& scene, const std::string& spec) {
-    // A colour: "r,g,b" or a single number.
-    std::vector<float> values;
-    {
-        size_t pos = 0;
-        bool numeric = !spec.empty();
-        while (numeric && pos <= spec.size()) {
-            const size_t comma = std::min(spec.find(',', pos), spec.size());
-            const std::string part = spec.substr(pos, comma - pos);
-            char* end = nullptr;
-            const float v = std::strtof(part.c_str(), &end);
-            if (part.empty() || end != part.c_str() + part.size()) numeric = false;
-            else values.push_back(v);
-            pos = comma + 1;
-        }
-        if (!numeric) values.clear();
-    }
-    if (values.size() == 1 || values.size() == 3) {
-        const vec3 c = values.size() == 1 ? vec3(values[0]) : vec3(values[0], values[1], values[2]);
-        if (!is_finite(c) || c.x < 0.f || c.y < 0.f || c.z < 0.f)
-            throw Error("--environment " + spec + ": a colour must be finite and non-negative");
-        scene.background = c;
-        scene.environment_map = kNoIndex;
-        return;
-    }
+void set_environment_map(Scene& scene, const std::string& spec) {
     Texture map;
     if (spec == "sky") {
         map = make_default_sky();
     } else {
         std::error_code ec;
         if (!std::filesystem::exists(spec, ec))
-            throw Error(spec + ": no such file; expected an environment map (.exr, .hdr, .png) or r,g,b");
+            throw Error(spec + ": no such file; expected an environment map (.exr, .hdr, .png)");
         map = Texture::load(spec, false, &scene.warnings);
     }
     scene.textures.push_back(std::move(map));

@@ -31,8 +31,8 @@ std::string save_bookmark(const std::string& path, const std::string& name, cons
 // The bookmark called `name`; throws pv::Error listing the names there are when none matches.
 const CameraDesc& find_bookmark(const Scene& scene, const std::string& name);
 
-// Sets the scene's environment from a user string: "r,g,b" or one number (constant radiance), or the path of an
-// equirectangular map (.exr, .hdr, .png, .jpg). "sky" is the default sky. Throws pv::Error on a bad value or file.
-void set_environment(Scene& scene, const std::string& spec);
+// Lights the scene with the equirectangular map at `path` (.exr, .hdr, .png, .jpg), or the default sky for "sky".
+// Throws pv::Error on a bad file. (A constant colour is Scene::background with no map.)
+void set_environment_map(Scene& scene, const std::string& path);
 
 }  // namespace pv
