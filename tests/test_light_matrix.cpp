@@ -424,7 +424,7 @@ TEST(LightSelection, TinyQuadAfterDominantQuadNeeEqualsBsdfOnly) {
 // weights to within one.
 TEST(LightSelection, DiscreteDistributionProbabilitiesAreExact) {
     Pcg32 rng(11, 3);
-    std::vector<std::vector<double>> cases = {{1e4, 1e4, 1e-4, 1e-4}, {1.0}, {3.0, 1.0, 0.0, 2.0}, {}};
+    std::vector<std::vector<double>> cases = {{1e4, 1e4, 1e-4, 1e-4}, {3.0, 1.0, 0.0, 2.0}, {}};
     for (int i = 0; i < 1000; ++i) cases.back().push_back(std::pow(10.0, 8.0 * double(rng.next_float()) - 4.0));
     for (const auto& w : cases) {
         const DiscreteDistribution d(w);
