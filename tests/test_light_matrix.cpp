@@ -4,10 +4,10 @@
 // L = rho E / pi, E the irradiance the light gives the receiver point (Lambert's polygon formula for quads, the
 // cap integral for the sun and the hot texel). The lights' own BSDFs are black, so paths end after the receiver
 // and roulette only acts in the one light type that needs several bounces: a glowing enclosure, L = Le sum rho^i.
-// Bounds: |mean - L| <= k stderr (plus float rounding), the stderr from the sample variance of i.i.d. samples (independent sampler), k
-// Sidak-corrected over all cells. A cell is skipped only where its estimator cannot see the light at this budget:
-// BSDF-only needs about 100 expected light hits (N * E / (pi Le) for cosine sampling), otherwise its sample
-// variance says nothing. The targeted tests of each defect follow the matrix.
+// Bounds: |mean - L| <= k stderr (plus float rounding), the stderr from the sample variance of i.i.d. samples
+// (independent sampler), k Sidak-corrected over all cells. A cell is skipped only where its estimator cannot see the
+// light at this budget: BSDF-only needs about 100 expected light hits (N * E / (pi Le) for cosine sampling), otherwise
+// its sample variance says nothing. The targeted tests of each defect follow the matrix.
 #include "core/distribution.h"
 #include "core/environment.h"
 #include "core/lights.h"
@@ -25,7 +25,7 @@
 namespace pv {
 namespace {
 
-constexpr float kRho = 0.5f;  // receiver albedo
+constexpr float kRho = 0.5f;             // receiver albedo
 constexpr double kFloatRounding = 1e-6;  // relative rounding of one float sample through a few vertices
 
 // Irradiance at the origin (normal +y) from a polygon of uniform radiance le above the horizon (Lambert 1760;
@@ -148,7 +148,8 @@ std::vector<LightCase> light_cases() {
     for (const float r : {0.05f, 0.27f, 5.f}) {
         std::ostringstream name;
         name << "sun_" << r << "deg";
-        c.push_back({name.str(), [r](Scene& s, double& e, double& hit) { add_sun(s, vec3(0.3f, 1.f, 0.2f), r, e, hit); }});
+        c.push_back(
+            {name.str(), [r](Scene& s, double& e, double& hit) { add_sun(s, vec3(0.3f, 1.f, 0.2f), r, e, hit); }});
     }
     c.push_back({"many_small_quads", [](Scene& s, double& e, double& hit) {
                      // 48 quads of side 0.08, radiance 1..24, at heights 0.5..1.1 off the camera ray's plane x = 0.
@@ -172,7 +173,8 @@ std::vector<LightCase> light_cases() {
                      e = kRho * polygon_irradiance(q, 5.0) / M_PI;
                      hit = hit_fraction(q);
                  }});
-    c.push_back({"glowing_enclosure", [](Scene& s, double& e, double& hit) {
+    c.push_back({"glowing_enclosure",
+                 [](Scene& s, double& e, double& hit) {
                      // Inward sphere, albedo rho, Le = 1, seen from inside: L = Le sum_{i <= d} rho^i with depth cap
                      // d = 8 (without it and without roulette, a path runs until its weight flushes to 0).
                      test::add_icosphere(s, vec3(0.f), 1.f, 1, black_emitter(s, vec3(1.f)), /*inward=*/true);
@@ -207,8 +209,9 @@ CameraDesc receiver_camera() {
 CellResult render_cell(const test::Tracer& tracer, const RenderSettings& settings, int n,
                        const CameraDesc& cam = receiver_camera()) {
     test::Moments m;
-    tracer.for_each_sample(cam, settings, 1, 1, n, [&](int, int, uint32_t, vec3 v) { m.add(double(v.y)); },
-                           /*pixel_centre=*/true);
+    tracer.for_each_sample(
+        cam, settings, 1, 1, n, [&](int, int, uint32_t, vec3 v) { m.add(double(v.y)); },
+        /*pixel_centre=*/true);
     return {m.mean, m.stderr_of_mean()};
 }
 
@@ -408,8 +411,8 @@ TEST(LightSelection, TinyQuadAfterDominantQuadNeeEqualsBsdfOnly) {
     }
     ASSERT_GT(r[0].mean, 0.0);
     const double z = (r[1].mean - r[0].mean) / std::hypot(r[1].se, r[0].se);
-    EXPECT_LE(std::fabs(z), test::sidak_k(1.0)) << "NEE " << r[1].mean << " +- " << r[1].se << ", BSDF-only "
-                                                 << r[0].mean << " +- " << r[0].se;
+    EXPECT_LE(std::fabs(z), test::sidak_k(1.0))
+        << "NEE " << r[1].mean << " +- " << r[1].se << ", BSDF-only " << r[0].mean << " +- " << r[0].se;
     // Every emitter's pmf is the probability it is sampled with: the small quad's is 0 (its share 5e-9 is below
     // the table's 2^-23 quantum), so light sampling never picks it and BSDF sampling takes it whole.
     EXPECT_EQ(tracer.lights().pmf(2), 0.5f);  // triangles 0, 1: the receiver; 2, 3: the large quad
