@@ -67,7 +67,7 @@ public:
         const Slot slot = m_slots[k >> m_shift];
         return (k & m_mask) < slot.threshold ? slot.own : slot.alias;
     }
-    float pmf(size_t i) const { return m_pmf[i]; }   // exactly count_i / 2^23
+    float pmf(size_t i) const { return m_pmf[i]; }  // exactly count_i / 2^23
     uint32_t count(size_t i) const { return m_count[i]; }
 
 private:

@@ -197,7 +197,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
             // geometric normal. Each sample's weight stays the lobe's own (1 reflected, 1/eta^2 refracted), so
             // no energy is lost or gained, where ending the path darkened the rim (tests/test_glass_furnace.cpp).
             const Frame geometric(ng);
-            bs = sample(*bsdf, geometric.to_local(wo_world), u_lobe, u_bsdf);
+            bs = detail::sample_other(*bsdf, geometric.to_local(wo_world), u_lobe, u_bsdf);  // out of line: rare
             if (!bs) break;
             wi_world = geometric.to_world(bs->wi);
             cos_g = glm::dot(wi_world, ng);

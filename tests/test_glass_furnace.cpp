@@ -56,7 +56,8 @@ TEST(GlassFurnace, CoarseSmoothGlassSphereIsInvisibleInAWhiteFurnace) {
             if (!rr) {
                 EXPECT_EQ(lost, 0u) << "eta " << eta << ": " << lost << " of " << samples << " paths lost";
             }
-            EXPECT_NEAR(st.total_mean(), 1.0, k * std::sqrt(st.total_mean_variance()) + 1e-5) << "eta " << eta << ", " << what;
+            EXPECT_NEAR(st.total_mean(), 1.0, k * std::sqrt(st.total_mean_variance()) + 1e-5)
+                << "eta " << eta << ", " << what;
         }
     }
 }
