@@ -2,6 +2,7 @@
 #include "app/commands.h"
 
 #include "core/aov.h"
+#include "core/denoise_nfor.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/renderer.h"
@@ -27,7 +28,8 @@ struct RenderOptions {
     std::vector<std::string> outs;  // every -o: the same render written to each
     float exposure = 0.f;
     bool quiet = false;
-    bool aovs = false;  // feature and film-statistics layers in the EXR (core/aov.h)
+    bool aovs = false;     // feature and film-statistics layers in the EXR (core/aov.h)
+    bool denoise = false;  // NFOR (core/denoise_nfor.h); the raw mean is kept as the noisy.* layer
 };
 
 void progress_bar(double fraction, uint32_t spp, double seconds) {
@@ -103,35 +105,50 @@ void run(RenderOptions& o) {
         std::fprintf(stderr, "\n");
     }
 
+    // AOVs and the denoiser: a first-hit feature pass after the render (the render loop itself is unchanged).
     Image image = renderer.film().mean();
-    if (o.exposure != 0.f)
-        for (float& v : image.rgb) v *= std::exp2(o.exposure);
-    // AOVs: a first-hit feature pass after the render (the render loop itself is unchanged), then the layers.
+    Image noisy;
     std::vector<ExrLayer> layers;
+    Metadata metadata = render_metadata(renderer);
     double aov_seconds = 0.0;
-    if (o.aovs) {
+    NforStats nfor;
+    if (o.aovs || o.denoise) {
         const auto aov_start = std::chrono::steady_clock::now();
         const SceneView view{&renderer.scene(), &renderer.materials(), &renderer.accel(), &renderer.lights(),
                              &renderer.environment()};
-        layers.push_back(rgb_layer(image));
-        for (ExrLayer& l : feature_layers(render_features(view, renderer.camera(), image.width, image.height, 8,
-                                                          renderer.settings().seed)))
-            layers.push_back(std::move(l));
-        for (ExrLayer& l : film_layers(renderer.film())) layers.push_back(std::move(l));
+        const FeatureImage features =
+            render_features(view, renderer.camera(), image.width, image.height, 8, renderer.settings().seed);
         aov_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - aov_start).count();
+        if (o.denoise) {
+            noisy = image;
+            image = denoise_nfor(renderer.film(), features, &nfor);
+            metadata["pathview:denoiser"] = "nfor";
+            metadata["pathview:denoise_seconds"] = std::to_string(nfor.seconds);
+        }
+        if (o.aovs)
+            for (ExrLayer& l : feature_layers(features)) layers.push_back(std::move(l));
     }
+    if (o.exposure != 0.f)
+        for (Image* im : {&image, &noisy})
+            for (float& v : im->rgb) v *= std::exp2(o.exposure);
+    layers.insert(layers.begin(), rgb_layer(image));
+    if (o.denoise) layers.push_back(rgb_layer(noisy, "noisy"));
+    if (o.aovs)
+        for (ExrLayer& l : film_layers(renderer.film())) layers.push_back(std::move(l));
     std::string written;
     for (const std::string& out : o.outs) {
         const std::string ext = std::filesystem::path(out).extension().string();
-        if (o.aovs && (ext == ".exr" || ext == ".EXR"))
-            write_exr_layers(out, image.width, image.height, layers, render_metadata(renderer));
+        if (layers.size() > 1 && (ext == ".exr" || ext == ".EXR"))
+            write_exr_layers(out, image.width, image.height, layers, metadata);
         else
-            write_image(out, image, render_metadata(renderer));
+            write_image(out, image, metadata);
         written += (written.empty() ? "" : ", ") + out;
     }
-    if (o.aovs && !o.quiet)
-        std::fprintf(stderr, "pathview: AOVs (albedo, normal, depth: 8 rays per pixel; sample count, variance, "
-                     "half means) in %.2f s\n", aov_seconds);
+    if ((o.aovs || o.denoise) && !o.quiet)
+        std::fprintf(stderr, "pathview: feature pass (albedo, normal, depth; 8 rays per pixel) %.2f s\n", aov_seconds);
+    if (o.denoise && !o.quiet)
+        std::fprintf(stderr, "pathview: denoised (NFOR, %d bandwidths) in %.2f s; the relMSE estimate below is the "
+                     "noisy image's\n", nfor.bandwidths, nfor.seconds);
 
     const RenderStats& st = renderer.stats();
     const double secs = std::max(st.seconds, 1e-9);
@@ -168,6 +185,8 @@ void add_render_command(CLI::App& app) {
     cmd->add_flag("--aovs", o->aovs, "EXR outputs also hold first-hit albedo (Albedo.*), shading normal (Ns.*), "
                   "depth (Z), SampleCount, Variance.* (of the mean) and the even/odd half means (even.*, odd.*); "
                   "see core/aov.h");
+    cmd->add_flag("--denoise", o->denoise, "Denoise (NFOR regression on first-hit features, cross-validated between "
+                  "the even/odd halves): the image written is denoised, EXRs keep the raw mean as noisy.R/G/B");
     cmd->callback([o] { run(*o); });
 }
 
