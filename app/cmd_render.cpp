@@ -2,6 +2,7 @@
 #include "app/commands.h"
 
 #include "core/aov.h"
+#include "core/denoise_atrous.h"
 #include "core/denoise_nfor.h"
 #include "core/error.h"
 #include "core/image_io.h"
@@ -30,6 +31,7 @@ struct RenderOptions {
     bool quiet = false;
     bool aovs = false;     // feature and film-statistics layers in the EXR (core/aov.h)
     bool denoise = false;  // NFOR (core/denoise_nfor.h); the raw mean is kept as the noisy.* layer
+    std::string denoiser = "nfor";  // or "atrous", the viewer's interactive filter (core/denoise_atrous.h)
 };
 
 void progress_bar(double fraction, uint32_t spp, double seconds) {
@@ -121,8 +123,14 @@ void run(RenderOptions& o) {
         aov_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - aov_start).count();
         if (o.denoise) {
             noisy = image;
-            image = denoise_nfor(renderer.film(), features, &nfor);
-            metadata["pathview:denoiser"] = "nfor";
+            if (o.denoiser == "atrous") {
+                const auto t0 = std::chrono::steady_clock::now();
+                image = denoise_atrous(noisy, renderer.film().variance_of_mean(), features);
+                nfor.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            } else {
+                image = denoise_nfor(renderer.film(), features, &nfor);
+            }
+            metadata["pathview:denoiser"] = o.denoiser;
             metadata["pathview:denoise_seconds"] = std::to_string(nfor.seconds);
         }
         if (o.aovs)
@@ -147,8 +155,8 @@ void run(RenderOptions& o) {
     if ((o.aovs || o.denoise) && !o.quiet)
         std::fprintf(stderr, "pathview: feature pass (albedo, normal, depth; 8 rays per pixel) %.2f s\n", aov_seconds);
     if (o.denoise && !o.quiet)
-        std::fprintf(stderr, "pathview: denoised (NFOR, %d bandwidths) in %.2f s; the relMSE estimate below is the "
-                     "noisy image's\n", nfor.bandwidths, nfor.seconds);
+        std::fprintf(stderr, "pathview: denoised (%s) in %.3f s; the relMSE estimate below is the noisy image's\n",
+                     o.denoiser.c_str(), nfor.seconds);
 
     const RenderStats& st = renderer.stats();
     const double secs = std::max(st.seconds, 1e-9);
@@ -187,6 +195,10 @@ void add_render_command(CLI::App& app) {
                   "see core/aov.h");
     cmd->add_flag("--denoise", o->denoise, "Denoise (NFOR regression on first-hit features, cross-validated between "
                   "the even/odd halves): the image written is denoised, EXRs keep the raw mean as noisy.R/G/B");
+    cmd->add_option("--denoiser", o->denoiser, "Denoiser for --denoise: nfor (final quality) or atrous (the viewer's "
+                    "interactive edge-avoiding filter)")
+        ->check(CLI::IsMember({"nfor", "atrous"}))
+        ->capture_default_str();
     cmd->callback([o] { run(*o); });
 }
 
