@@ -25,7 +25,13 @@ struct Planes {
     std::vector<vec3> a, b, var_a, var_b;  // half means and their variances
 };
 
-Planes halves(const Film& film) {
+// The albedo a pixel's colour is divided by before filtering and multiplied by after (1 where nothing was hit).
+vec3 demodulation(const FeatureImage& f, size_t i) {
+    return f.depth[i] == 0.f ? vec3(1.f) : glm::max(f.albedo[i], vec3(1e-3f));
+}
+
+// The half means and their variances, divided by the albedo: texture detail is then not noise to the filter.
+Planes halves(const Film& film, const FeatureImage& f) {
     Planes p;
     p.w = film.width();
     p.h = film.height();
@@ -46,6 +52,11 @@ Planes halves(const Film& film) {
                 p.var_a[size_t(i)][c] = float(s2 / na);
                 p.var_b[size_t(i)][c] = float(s2 / nb);
             }
+            const vec3 d = demodulation(f, size_t(i));
+            p.a[size_t(i)] /= d;
+            p.b[size_t(i)] /= d;
+            p.var_a[size_t(i)] /= d * d;
+            p.var_b[size_t(i)] /= d * d;
         }
     return p;
 }
@@ -69,12 +80,30 @@ std::vector<float> smoothed_variance(int w, int h, const std::vector<vec3>& var)
     return s;
 }
 
+// A floor for a pixel's variance: a quarter of the 5 x 5 box mean. A pixel whose few samples all agreed (all zero
+// in a dark corner) has variance 0, and would otherwise accept no neighbour at all and stay black.
+std::vector<float> variance_floor(int w, int h, const std::vector<vec3>& var) {
+    std::vector<float> s(var.size(), 0.f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float acc = 0.f;
+            int n = 0;
+            for (int yy = std::max(0, y - 2); yy <= std::min(h - 1, y + 2); ++yy)
+                for (int xx = std::max(0, x - 2); xx <= std::min(w - 1, x + 2); ++xx, ++n) {
+                    const vec3 v = var[size_t(yy) * size_t(w) + size_t(xx)];
+                    acc += (v.x + v.y + v.z) / 3.f;
+                }
+            s[size_t(y) * size_t(w) + size_t(x)] = 0.25f * acc / float(n);
+        }
+    return s;
+}
+
 // Filters `target` by weighted first-order regression; weights from `guide` (var_g).
 void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& target, const std::vector<vec3>& guide,
              const std::vector<vec3>& var_g, float k, std::vector<vec3>& out) {
     const int w = p.w, h = p.h;
     out.assign(target.size(), vec3(0.f));
-    const std::vector<float> sv = smoothed_variance(w, h, var_g);
+    const std::vector<float> sv = smoothed_variance(w, h, var_g), floor = variance_floor(w, h, var_g);
     tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
         Eigen::Matrix<double, kCols, kCols> xtx;
         Eigen::Matrix<double, kCols, 3> xty;
@@ -86,7 +115,7 @@ void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& ta
                 xty.setZero();
                 const vec3 gi = guide[i], vi = var_g[i];
                 const float zi = std::max(f.depth[i], 1e-6f);
-                const float v_centre = std::max(sv[i], (vi.x + vi.y + vi.z) / 3.f);
+                const float v_centre = std::max({sv[i], (vi.x + vi.y + vi.z) / 3.f, floor[i]});
                 for (int dy = -kRadius; dy <= kRadius; ++dy) {
                     const int yy = y + dy;
                     if (yy < 0 || yy >= h) continue;
@@ -97,7 +126,7 @@ void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& ta
                         // Colour distance on the guide half, its noise cancelled (mean over channels).
                         float dc = 0.f;
                         for (int c = 0; c < 3; ++c) {
-                            const float v = vi[c] + var_g[j][c];
+                            const float v = std::max(vi[c] + var_g[j][c], floor[i] + floor[j]);
                             const float d2 = sqr(gi[c] - guide[j][c]);
                             dc += std::max(0.f, d2 - v) / (k * k * v + 1e-4f);
                         }
@@ -106,9 +135,10 @@ void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& ta
                         const float df = glm::dot(da, da) / sqr(kAlbedoScale) + glm::dot(dn, dn) / sqr(kNormalScale) +
                                          sqr(dz / kDepthScale);
                         // A neighbour much noisier than this pixel (its own variance or its median, whichever is
-                        // larger) is down-weighted by the variance ratio (inverse-variance weighting, capped at 1): a pixel straddling a lamp's edge has a large variance
-                        // that the colour distance's variance cancellation would otherwise accept as "similar".
-                        const float vj = std::max(sv[j], (var_g[j].x + var_g[j].y + var_g[j].z) / 3.f);
+                        // larger) is down-weighted by the variance ratio (inverse-variance weighting, capped at 1): a
+                        // pixel straddling a lamp's edge has a large variance that the colour distance's variance
+                        // cancellation would otherwise accept as "similar".
+                        const float vj = std::max({sv[j], (var_g[j].x + var_g[j].y + var_g[j].z) / 3.f, floor[j]});
                         const float vr = std::min(1.f, (v_centre + 1e-6f) / (vj + 1e-6f));
                         const double wgt = vr * std::exp(-double(dc) / 3.0 - double(df));
                         if (wgt < 1e-6) continue;
@@ -141,7 +171,7 @@ std::vector<float> error_map(int w, int h, const std::vector<vec3>& filtered, co
     std::vector<float> e(filtered.size()), s(filtered.size());
     for (size_t i = 0; i < e.size(); ++i) {
         const vec3 d = filtered[i] - other[i];
-        const vec3 m = 0.5f * (filtered[i] + other[i]);
+        const vec3 m = 0.5f * (filtered[i] + other[i]);  // demodulated: the relative error of the colour
         e[i] = (glm::dot(d, d) - (var_o[i].x + var_o[i].y + var_o[i].z)) / (glm::dot(m, m) + 0.01f);
     }
     for (int y = 0; y < h; ++y)
@@ -160,7 +190,7 @@ std::vector<float> error_map(int w, int h, const std::vector<vec3>& filtered, co
 
 Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* stats) {
     const auto start = std::chrono::steady_clock::now();
-    const Planes p = halves(film);
+    const Planes p = halves(film, features);
     const int w = p.w, h = p.h;
     const size_t n = size_t(w) * size_t(h);
     constexpr int kK = int(std::size(kBandwidths));
@@ -186,7 +216,7 @@ Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* st
         for (int x = 0; x < w; ++x, ++i) {
             const FilmPixel& px = film.pixel(x, y);
             if (px.n_even < 2 || px.n - px.n_even < 2) continue;
-            out.set(x, y, best[size_t(i)]);
+            out.set(x, y, best[size_t(i)] * demodulation(features, size_t(i)));
             chosen[size_t(choice[size_t(i)])]++;
         }
     if (stats) {
