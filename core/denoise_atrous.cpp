@@ -31,6 +31,13 @@ Image denoise_atrous(const Image& mean, const Image& variance_of_mean, const Fea
                                 variance_of_mean.rgb[i * 3 + 2]) / 3.f) / (a * a);
     }
     std::vector<float> sigma(n);  // the colour scale, from the variance box-filtered over 3x3 (SVGF sec. 4.4)
+    std::vector<float> lum(n);    // luminance of the current pass's input
+    // Unit normals: a pixel across an edge has a shorter mean normal, which would scale every weight it takes.
+    std::vector<vec3> nrm(n);
+    for (size_t i = 0; i < n; ++i) {
+        const float l = glm::length(f.normal[i]);
+        nrm[i] = l > 0.f ? f.normal[i] / l : vec3(0.f);
+    }
     for (int pass = 0; pass < kPasses; ++pass) {
         const int stride = 1 << pass;
         // A pixel whose few samples all agreed (all zero, say) has variance 0 and would accept no neighbour: a
@@ -44,11 +51,13 @@ Image denoise_atrous(const Image& mean, const Image& variance_of_mean, const Fea
                         acc += var[size_t(yy) * size_t(w) + size_t(xx)];
                 sigma[size_t(y) * size_t(w) + size_t(x)] = kSigmaColour * std::sqrt(acc / float(cnt)) + 1e-4f;
             }
+        for (size_t i = 0; i < n; ++i) lum[i] = luminance(col[i]);
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
                 const size_t i = size_t(y) * size_t(w) + size_t(x);
-                const float li = luminance(col[i]);
-                const float sigma_l = sigma[i];
+                const float li = lum[i];
+                const vec3 ni = nrm[i], ai = f.albedo[i];
+                const float inv_sigma_l = 1.f / sigma[i];
                 const float zi = f.depth[i], dz_scale = kSigmaDepth * std::max(zi, 1e-6f) * float(stride);
                 vec3 acc(0.f);
                 float acc_v = 0.f, wsum = 0.f;
@@ -59,14 +68,16 @@ Image denoise_atrous(const Image& mean, const Image& variance_of_mean, const Fea
                         const int xx = x + (kx - 2) * stride;
                         if (xx < 0 || xx >= w) continue;
                         const size_t j = size_t(yy) * size_t(w) + size_t(xx);
-                        // max(0, n_i . n_j)^64 by six squarings (kNormalPower).
-                        float wn = std::max(0.f, glm::dot(f.normal[i], f.normal[j]));
+                        // max(0, n_i . n_j)^64 by six squarings; below 0.85 it is under 3e-5: skip the tap.
+                        float wn = glm::dot(ni, nrm[j]);
+                        if (!(wn > 0.85f)) continue;
                         for (int k = 0; k < 6; ++k) wn *= wn;
-                        const float wz = std::fabs(f.depth[j] - zi) / dz_scale;
-                        const vec3 da = f.albedo[j] - f.albedo[i];
-                        const float wa = glm::dot(da, da) / (kSigmaAlbedo * kSigmaAlbedo);
-                        const float wl = std::fabs(luminance(col[j]) - li) / sigma_l;
-                        const float wgt = kTap[kx] * kTap[ky] * wn * std::exp(-wz - wa - wl);
+                        const vec3 da = f.albedo[j] - ai;
+                        const float e = std::fabs(f.depth[j] - zi) / dz_scale +
+                                        glm::dot(da, da) * (1.f / (kSigmaAlbedo * kSigmaAlbedo)) +
+                                        std::fabs(lum[j] - li) * inv_sigma_l;
+                        if (e > 12.f) continue;  // weight below 6e-6 of the tap's
+                        const float wgt = kTap[kx] * kTap[ky] * wn * std::exp(-e);
                         acc += wgt * col[j];
                         acc_v += wgt * wgt * var[j];
                         wsum += wgt;
