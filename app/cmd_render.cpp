@@ -163,8 +163,8 @@ void run(RenderOptions& o) {
     if (renderer.settings().max_depth < RenderSettings{}.max_depth)
         std::fprintf(stderr, "pathview: note: --max-depth %d truncates paths, so the image is biased (darker) "
                      "compared with the unbounded default\n", renderer.settings().max_depth);
-    std::printf("pathview: %u spp in %.2f s, estimated relMSE %.3g (half buffers), %s paths/s, %s rays/s (%s closest-hit + %s shadow), %.2f rays/path, "
-                "%llu dropped samples, %d threads, %s -> %s\n",
+    std::printf("pathview: %u spp in %.2f s, estimated relMSE %.3g (half buffers), %s paths/s, %s rays/s "
+                "(%s closest-hit + %s shadow), %.2f rays/path, %llu dropped samples, %d threads, %s -> %s\n",
                 st.spp, st.seconds, renderer.film().estimated_rel_mse(), format_si(double(st.paths) / secs).c_str(),
                 format_si(double(st.rays + st.shadow_rays) / secs).c_str(), format_si(double(st.rays) / secs).c_str(),
                 format_si(double(st.shadow_rays) / secs).c_str(),
