@@ -27,6 +27,9 @@ struct BenchSample {
     ErrorMetrics error;
     double rel_mse_trimmed = 0.0;  // relMSE without the largest 0.1% of per-value errors (fireflies)
     double rays = 0.0, shadow_rays = 0.0, paths = 0.0, vertices = 0.0;
+    // With --denoise: the denoised images' relMSE against the reference and the filters' seconds (wall). The
+    // columns above stay the noisy estimator's.
+    double rel_mse_atrous = 0.0, atrous_seconds = 0.0, rel_mse_nfor = 0.0, nfor_seconds = 0.0;
 };
 
 // The seeds' samples at one spp, summarised.
@@ -37,6 +40,8 @@ struct BenchPoint {
     double mrays_per_s = 0.0;       // closest-hit + shadow rays per second, millions
     double mean_path_length = 0.0;  // surface interactions per path
     double rays_per_sample = 0.0;   // closest-hit + shadow rays per path
+    bool denoised = false;          // the four spreads below are measured (bench --denoise)
+    Spread rel_mse_atrous, atrous_seconds, rel_mse_nfor, nfor_seconds;
     double efficiency() const { return rel_mse.mean > 0 && seconds.mean > 0 ? 1.0 / (rel_mse.mean * seconds.mean) : 0.0; }
 };
 
@@ -48,6 +53,8 @@ struct BenchSeries {
 
 // A pipe table (Markdown-compatible) of every point of every series.
 void print_points_table(const std::vector<BenchSeries>& series);
+// With --denoise: noisy and denoised relMSE and the filters' times at every point.
+void print_denoise_table(const std::vector<BenchSeries>& series);
 void write_csv(const std::string& path, const std::string& scene, const std::vector<BenchSeries>& series);
 // Two log-log panels (relMSE against seconds and against spp), one curve per configuration with the min-max
 // spread over seeds as bars, and a slope -1 guide in each panel.

@@ -99,11 +99,22 @@ void print_points_table(const std::vector<BenchSeries>& series) {
                         p.efficiency());
 }
 
+void print_denoise_table(const std::vector<BenchSeries>& series) {
+    std::printf("| config | spp | noisy relMSE | a-trous relMSE | a-trous ms | NFOR relMSE | NFOR s |\n"
+                "|---|---:|---:|---:|---:|---:|---:|\n");
+    for (const BenchSeries& s : series)
+        for (const BenchPoint& p : s.points)
+            if (p.denoised)
+                std::printf("| %s | %u | %.4g | %.4g | %.1f | %.4g | %.2f |\n", s.config.name.c_str(), p.spp,
+                            p.rel_mse.mean, p.rel_mse_atrous.mean, p.atrous_seconds.mean * 1e3, p.rel_mse_nfor.mean,
+                            p.nfor_seconds.mean);
+}
+
 void write_csv(const std::string& path, const std::string& scene, const std::vector<BenchSeries>& series) {
     std::ostringstream o;
     o << "scene,config,light_sampling,mis,rr,sampler,spp,seeds,seconds_mean,seconds_std,relmse_mean,relmse_std,"
          "relmse_min,relmse_max,relmse_trimmed_mean,rmse_mean,mape_mean,mrays_per_s,mean_path_length,rays_per_sample,"
-         "efficiency\n";
+         "efficiency,relmse_atrous_mean,atrous_seconds_mean,relmse_nfor_mean,nfor_seconds_mean\n";
     for (const BenchSeries& s : series)
         for (const BenchPoint& p : s.points) {
             const RenderSettings& st = s.config.settings;
@@ -115,7 +126,14 @@ void write_csv(const std::string& path, const std::string& scene, const std::vec
               << fmt("%.6g", p.rel_mse_trimmed.mean) << ',' << fmt("%.6g", p.rmse.mean)
               << ',' << fmt("%.6g", p.mape.mean) << ',' << fmt("%.4g", p.mrays_per_s) << ','
               << fmt("%.4g", p.mean_path_length) << ',' << fmt("%.4g", p.rays_per_sample) << ','
-              << fmt("%.6g", p.efficiency()) << '\n';
+              << fmt("%.6g", p.efficiency());
+            // Denoised columns: empty unless bench --denoise measured them.
+            if (p.denoised)
+                o << ',' << fmt("%.6g", p.rel_mse_atrous.mean) << ',' << fmt("%.4g", p.atrous_seconds.mean) << ','
+                  << fmt("%.6g", p.rel_mse_nfor.mean) << ',' << fmt("%.4g", p.nfor_seconds.mean);
+            else
+                o << ",,,,";
+            o << '\n';
         }
     write_file(path, o.str());
 }

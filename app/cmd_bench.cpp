@@ -6,6 +6,9 @@
 #include "app/bench.h"
 #include "app/commands.h"
 
+#include "core/aov.h"
+#include "core/denoise_atrous.h"
+#include "core/denoise_nfor.h"
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/raybench.h"
@@ -41,6 +44,7 @@ struct BenchOptions {
     int rays_rounds = 3;
     std::string clock = "cpu";    // process CPU seconds / threads, or "wall"
     bool quiet = false;
+    bool denoise = false;         // denoised columns: a-trous and NFOR at every point
 };
 
 // One render pass; returns its duration by the chosen clock (wall, or process CPU time / threads).
@@ -163,6 +167,20 @@ BenchPoint summarise(const std::vector<BenchSample>& samples) {
     p.mrays_per_s = secs > 0 ? rays / secs * 1e-6 : 0.0;
     p.mean_path_length = paths > 0 ? vertices / paths : 0.0;
     p.rays_per_sample = paths > 0 ? rays / paths : 0.0;
+    p.denoised = samples.front().nfor_seconds > 0.0;
+    if (p.denoised) {
+        std::vector<double> ra, ta, rn, tn;
+        for (const BenchSample& s : samples) {
+            ra.push_back(s.rel_mse_atrous);
+            ta.push_back(s.atrous_seconds);
+            rn.push_back(s.rel_mse_nfor);
+            tn.push_back(s.nfor_seconds);
+        }
+        p.rel_mse_atrous = spread_of(ra);
+        p.atrous_seconds = spread_of(ta);
+        p.rel_mse_nfor = spread_of(rn);
+        p.nfor_seconds = spread_of(tn);
+    }
     return p;
 }
 
@@ -172,6 +190,13 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
                        const Image& reference, Progress& progress, double progress_base, double progress_step) {
     std::vector<std::vector<BenchSample>> by_point;
     uint32_t last_spp = 0;
+    FeatureImage features;  // the camera's first-hit features, for --denoise (same for every seed)
+    if (o.denoise) {
+        renderer.restart(camera, config.settings, o.common.width, o.common.height);
+        const SceneView view{&renderer.scene(), &renderer.materials(), &renderer.accel(), &renderer.lights(),
+                             &renderer.environment()};
+        features = render_features(view, renderer.camera(), o.common.width, o.common.height);
+    }
     for (int seed = 0; seed < o.seeds; ++seed) {
         RenderSettings s = config.settings;
         s.seed = o.common.settings.seed + 1u + uint32_t(seed);
@@ -187,6 +212,15 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
             const Image mean = renderer.film().mean();
             smp.error = compare_images(mean, reference);
             smp.rel_mse_trimmed = compare_images(mean, reference, kMetricEps, 0.001).rel_mse;
+            if (o.denoise) {
+                const auto t0 = std::chrono::steady_clock::now();
+                const Image atrous = denoise_atrous(mean, renderer.film().variance_of_mean(), features);
+                smp.atrous_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                smp.rel_mse_atrous = compare_images(atrous, reference).rel_mse;
+                NforStats nfor;
+                smp.rel_mse_nfor = compare_images(denoise_nfor(renderer.film(), features, &nfor), reference).rel_mse;
+                smp.nfor_seconds = nfor.seconds;
+            }
             smp.rays = double(st.rays);
             smp.shadow_rays = double(st.shadow_rays);
             smp.paths = double(st.paths);
@@ -367,6 +401,11 @@ void run(BenchOptions& o) {
         progress.done();
         std::printf("\n### Every point (mean over %d seeds; relMSE eps 0.01, no trimming)\n\n", o.seeds);
         print_points_table(all);
+        if (o.denoise) {
+            std::printf("\n### Denoised (relMSE of the denoised image against the reference; the noisy column is "
+                        "the estimator's own; filter times are wall seconds, not part of the render time)\n\n");
+            print_denoise_table(all);
+        }
         print_summary(all, ref);
         if (!o.csv.empty()) write_csv(o.csv, scene_name, all);
         if (!o.svg.empty()) {
@@ -439,6 +478,9 @@ void add_bench_command(CLI::App& app) {
         ->check(CLI::IsMember({"wall", "cpu"}))
         ->capture_default_str();
     cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
+    cmd->add_flag("--denoise", o->denoise, "At every point also denoise (a-trous and NFOR, with first-hit features) "
+                  "and report the denoised relMSE and the filter times in their own table and the CSV (slow: use "
+                  "with one --configs entry)");
     cmd->callback([o] { run(*o); });
 }
 

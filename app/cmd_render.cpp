@@ -2,6 +2,8 @@
 #include "app/commands.h"
 
 #include "core/aov.h"
+#include "core/denoise_atrous.h"
+#include "core/denoise_nfor.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/image_io.h"
@@ -34,7 +36,9 @@ struct RenderOptions {
     std::string resume;   // --resume PART.exr: continue a partial render
     std::string shard;    // --shard I/N: shard I of N of --spp's sample indices
     const CLI::App* cmd = nullptr;
-    bool aovs = false;  // feature and film-statistics layers in the EXR (core/aov.h)
+    bool aovs = false;     // feature and film-statistics layers in the EXR (core/aov.h)
+    bool denoise = false;  // NFOR (core/denoise_nfor.h); the raw mean is kept as the noisy.* layer
+    std::string denoiser = "nfor";  // or "atrous", the viewer's interactive filter (core/denoise_atrous.h)
 };
 
 // Options that --resume takes from the part instead (they define the image).
@@ -193,13 +197,47 @@ void run(RenderOptions& o) {
         std::fprintf(stderr, "\n");
     }
 
+    // AOVs and the denoiser: a first-hit feature pass after the render (the render loop itself is unchanged).
     Image image = renderer.film().mean();
-    if (o.exposure != 0.f)
-        for (float& v : image.rgb) {
-            // Overflow saturates: a file never holds Inf (the film's means are finite and non-negative).
-            const float s = v * std::exp2(o.exposure);
-            v = std::isfinite(s) ? s : std::numeric_limits<float>::max();
+    Image noisy;
+    std::vector<ExrLayer> layers;
+    Metadata metadata = render_metadata(renderer);
+    double aov_seconds = 0.0;
+    NforStats nfor;
+    if (o.aovs || o.denoise) {
+        // AOVs: a first-hit feature pass after the render (the render loop itself is unchanged).
+        const auto aov_start = std::chrono::steady_clock::now();
+        const SceneView view{&renderer.scene(), &renderer.materials(), &renderer.accel(), &renderer.lights(),
+                             &renderer.environment()};
+        const FeatureImage features =
+            render_features(view, renderer.camera(), image.width, image.height, 8, renderer.settings().seed);
+        aov_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - aov_start).count();
+        if (o.denoise) {
+            noisy = image;
+            if (o.denoiser == "atrous") {
+                const auto t0 = std::chrono::steady_clock::now();
+                image = denoise_atrous(noisy, renderer.film().variance_of_mean(), features);
+                nfor.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            } else {
+                image = denoise_nfor(renderer.film(), features, &nfor);
+            }
+            metadata["pathview:denoiser"] = o.denoiser;
+            metadata["pathview:denoise_seconds"] = std::to_string(nfor.seconds);
         }
+        if (o.aovs)
+            for (ExrLayer& l : feature_layers(features)) layers.push_back(std::move(l));
+    }
+    if (o.exposure != 0.f)
+        for (Image* im : {&image, &noisy})
+            for (float& v : im->rgb) {
+                // Overflow saturates: a file never holds Inf (the film's means are finite and non-negative).
+                const float s = v * std::exp2(o.exposure);
+                v = std::isfinite(s) ? s : std::numeric_limits<float>::max();
+            }
+    layers.insert(layers.begin(), rgb_layer(image));
+    if (o.denoise) layers.push_back(rgb_layer(noisy, "noisy"));
+    if (o.aovs)
+        for (ExrLayer& l : film_layers(renderer.film())) layers.push_back(std::move(l));
     std::optional<PartialRender> part;
     if (samples) {
         std::vector<SampleRange> ranges{{samples->start, renderer.stats().spp}};
@@ -208,42 +246,31 @@ void run(RenderOptions& o) {
         part->info["pathview:scene_flags"] = scene_flags(o.common);
         if (resumed) add_summed_info(part->info, resumed->info);
     }
-    // AOVs: a first-hit feature pass after the render (the render loop itself is unchanged), then the layers.
-    std::vector<ExrLayer> layers;
-    double aov_seconds = 0.0;
-    if (o.aovs) {
-        const auto aov_start = std::chrono::steady_clock::now();
-        const SceneView view{&renderer.scene(), &renderer.materials(), &renderer.accel(), &renderer.lights(),
-                             &renderer.environment()};
-        layers.push_back(rgb_layer(image));
-        for (ExrLayer& l : feature_layers(render_features(view, renderer.camera(), image.width, image.height, 8,
-                                                          renderer.settings().seed)))
-            layers.push_back(std::move(l));
-        for (ExrLayer& l : film_layers(renderer.film())) layers.push_back(std::move(l));
-        aov_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - aov_start).count();
-    }
     std::string written;
     for (const std::string& out : o.outs) {
         const std::string ext = std::filesystem::path(out).extension().string();
-        if (part && (ext == ".exr" || ext == ".EXR"))
+        const bool exr = ext == ".exr" || ext == ".EXR";
+        if (part && exr)
             write_partial(out, *part);
-        else if (o.aovs && (ext == ".exr" || ext == ".EXR"))
-            write_exr_layers(out, image.width, image.height, layers, render_metadata(renderer));
+        else if (layers.size() > 1 && exr)
+            write_exr_layers(out, image.width, image.height, layers, metadata);
         else
-            write_image(out, image, render_metadata(renderer));
+            write_image(out, image, metadata);
         written += (written.empty() ? "" : ", ") + out;
     }
-    if (o.aovs && !o.quiet)
-        std::fprintf(stderr, "pathview: AOVs (albedo, normal, depth: 8 rays per pixel; sample count, variance, "
-                     "half means) in %.2f s\n", aov_seconds);
+    if ((o.aovs || o.denoise) && !o.quiet)
+        std::fprintf(stderr, "pathview: feature pass (albedo, normal, depth; 8 rays per pixel) %.2f s\n", aov_seconds);
+    if (o.denoise && !o.quiet)
+        std::fprintf(stderr, "pathview: denoised (%s) in %.3f s; the relMSE estimate below is the noisy image's\n",
+                     o.denoiser.c_str(), nfor.seconds);
 
     const RenderStats& st = renderer.stats();
     const double secs = std::max(st.seconds, 1e-9);
     if (renderer.settings().max_depth < RenderSettings{}.max_depth)
         std::fprintf(stderr, "pathview: note: --max-depth %d truncates paths, so the image is biased (darker) "
                      "compared with the unbounded default\n", renderer.settings().max_depth);
-    std::printf("pathview: %u spp in %.2f s, estimated relMSE %.3g (half buffers), %s paths/s, %s rays/s (%s closest-hit + %s shadow), %.2f rays/path, "
-                "%llu dropped samples, %d threads, %s -> %s\n",
+    std::printf("pathview: %u spp in %.2f s, estimated relMSE %.3g (half buffers), %s paths/s, %s rays/s "
+                "(%s closest-hit + %s shadow), %.2f rays/path, %llu dropped samples, %d threads, %s -> %s\n",
                 st.spp, st.seconds, renderer.film().estimated_rel_mse(), format_si(double(st.paths) / secs).c_str(),
                 format_si(double(st.rays + st.shadow_rays) / secs).c_str(), format_si(double(st.rays) / secs).c_str(),
                 format_si(double(st.shadow_rays) / secs).c_str(),
@@ -291,6 +318,12 @@ void add_render_command(CLI::App& app) {
     cmd->add_flag("--aovs", o->aovs, "EXR outputs also hold first-hit albedo (Albedo.*), shading normal (Ns.*), "
                   "depth (Z), SampleCount, Variance.* (of the mean) and the even/odd half means (even.*, odd.*); "
                   "see core/aov.h");
+    cmd->add_flag("--denoise", o->denoise, "Denoise (NFOR regression on first-hit features, cross-validated between "
+                  "the even/odd halves): the image written is denoised, EXRs keep the raw mean as noisy.R/G/B");
+    cmd->add_option("--denoiser", o->denoiser, "Denoiser for --denoise: nfor (final quality) or atrous (the viewer's "
+                    "interactive edge-avoiding filter)")
+        ->check(CLI::IsMember({"nfor", "atrous"}))
+        ->capture_default_str();
     cmd->callback([o] { run(*o); });
 }
 

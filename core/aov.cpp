@@ -50,6 +50,9 @@ FeatureSample trace_features(const SceneView& view, Ray ray, Sampler& sampler) {
             vec3 albedo = base_color(mat.bsdf);
             if (mat.base_color_texture != kNoIndex)
                 albedo = vec3(scene.textures[mat.base_color_texture].lookup(scene.uv_at(hit.prim, hit.u, hit.v)));
+            // An emitter's albedo is its emission clamped to 1: a lamp's diffuser is often the colour of the ceiling
+            // around it, and a denoiser must not blend the two.
+            if (mat.has_emission()) albedo = glm::min(mat.emission, vec3(1.f));
             out.albedo = tint * albedo;
             out.normal = ns;
             out.depth = travelled;

@@ -1,0 +1,38 @@
+// microbench/denoise_atrous.cpp: the interactive denoiser's time per 512x512 frame of the built-in Cornell box
+// (4 spp, first-hit features), on the calling thread only. Run: build/microbench/pathview_microbench_denoise
+#include "core/aov.h"
+#include "core/denoise_atrous.h"
+#include "core/renderer.h"
+#include "core/scene_file.h"
+
+#include <benchmark/benchmark.h>
+
+namespace {
+
+struct Frame {
+    pv::Image mean, variance;
+    pv::FeatureImage features;
+};
+
+const Frame& cornell_frame() {
+    static const Frame frame = [] {
+        auto scene = std::make_shared<pv::Scene>(pv::load_scene(pv::builtin_scene_path()));
+        pv::Renderer r(scene, 0);
+        r.restart(scene->camera, pv::RenderSettings{}, 512, 512);
+        for (int i = 0; i < 4; ++i) r.render_pass();
+        const pv::SceneView view{&r.scene(), &r.materials(), &r.accel(), &r.lights(), &r.environment()};
+        return Frame{r.film().mean(), r.film().variance_of_mean(), pv::render_features(view, r.camera(), 512, 512, 4)};
+    }();
+    return frame;
+}
+
+void BM_AtrousCornell512(benchmark::State& state) {
+    const Frame& f = cornell_frame();
+    for (auto _ : state) benchmark::DoNotOptimize(pv::denoise_atrous(f.mean, f.variance, f.features));
+    state.SetItemsProcessed(state.iterations() * 512 * 512);
+}
+BENCHMARK(BM_AtrousCornell512)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

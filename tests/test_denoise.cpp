@@ -1,0 +1,96 @@
+// tests/test_denoise.cpp: the NFOR and a-trous denoisers (core/denoise_nfor.h, core/denoise_atrous.h) on synthetic films whose truth is known: two
+// flat regions split by an edge that the albedo feature marks, with uniform noise of mean equal to the truth.
+//  * Error: an 11 x 11 regression window averages up to 121 pixels, so on flat regions the relMSE must fall at
+//    least 5x below the noisy mean's (ideal 1/121; 5x leaves room for the edge and the image border).
+//  * Edges: no pixel of the columns either side of the edge moves toward the other side by 10% of the step, and
+//    each column's mean stays within 3% of its truth (no bleeding across it).
+//  * Pixels with fewer than 2 samples in a half are passed through unchanged (NFOR).
+//  * The a-trous filter (five 5x5 passes, up to 25 x 5 taps but stopped at 4 standard deviations of colour) must
+//    lower the relMSE at least 3x and keep the edge by the same criterion.
+#include "core/denoise_atrous.h"
+#include "core/denoise_nfor.h"
+#include "core/metrics.h"
+#include "core/rng.h"
+
+#include <gtest/gtest.h>
+
+namespace pv {
+namespace {
+
+constexpr int kW = 32, kH = 32, kEdge = 16;
+
+float truth_at(int x) { return x < kEdge ? 0.2f : 0.8f; }
+
+FeatureImage step_features() {
+    FeatureImage f;
+    f.width = kW;
+    f.height = kH;
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            f.albedo.push_back(vec3(truth_at(x)));
+            f.normal.push_back(vec3(0.f, 0.f, 1.f));
+            f.depth.push_back(1.f);
+        }
+    return f;
+}
+
+Film noisy_step_film(int spp) {
+    Film film(kW, kH);
+    Pcg32 rng;
+    rng.seed(12345, 7);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x)
+            for (int i = 0; i < spp; ++i) film.add(x, y, uint32_t(i), vec3(2.f * truth_at(x) * rng.next_float()));
+    return film;
+}
+
+// The edge criterion shared by both denoisers.
+void expect_edge_kept(const Image& out) {
+    const float step = truth_at(kEdge) - truth_at(kEdge - 1);
+    for (int x : {kEdge - 1, kEdge}) {
+        const float toward = x < kEdge ? 1.f : -1.f;
+        double mean = 0.0;
+        for (int y = 0; y < kH; ++y) {
+            EXPECT_LT(toward * (out.at(x, y).x - truth_at(x)), 0.1f * step) << x << "," << y;
+            mean += out.at(x, y).x / kH;
+        }
+        EXPECT_NEAR(mean, truth_at(x), 0.03 * truth_at(x)) << "column " << x;
+    }
+}
+
+TEST(DenoiseNfor, ReducesErrorAndKeepsEdges) {
+    const Film film = noisy_step_film(16);
+    Image truth(kW, kH);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) truth.set(x, y, vec3(truth_at(x)));
+    NforStats stats;
+    const Image out = denoise_nfor(film, step_features(), &stats);
+    const double noisy = compare_images(film.mean(), truth).rel_mse;
+    const double denoised = compare_images(out, truth).rel_mse;
+    EXPECT_LT(denoised, noisy / 5) << "noisy " << noisy << " denoised " << denoised;
+    expect_edge_kept(out);
+    int total = 0;
+    for (int c : stats.chosen) total += c;
+    EXPECT_EQ(total, kW * kH);
+}
+
+TEST(DenoiseAtrous, ReducesErrorAndKeepsEdges) {
+    const Film film = noisy_step_film(16);
+    Image truth(kW, kH);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) truth.set(x, y, vec3(truth_at(x)));
+    const Image out = denoise_atrous(film.mean(), film.variance_of_mean(), step_features());
+    const double noisy = compare_images(film.mean(), truth).rel_mse;
+    const double denoised = compare_images(out, truth).rel_mse;
+    EXPECT_LT(denoised, noisy / 3) << "noisy " << noisy << " denoised " << denoised;
+    expect_edge_kept(out);
+}
+
+TEST(DenoiseNfor, PassesThroughSparsePixels) {
+    const Film film = noisy_step_film(3);  // one odd sample per pixel
+    const Image out = denoise_nfor(film, step_features());
+    EXPECT_EQ(out.rgb, film.mean().rgb);
+}
+
+}  // namespace
+}  // namespace pv
