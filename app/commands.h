@@ -1,6 +1,7 @@
 // app/commands.h: the pathview subcommands. Each registers its options on the CLI and runs when chosen.
 #pragma once
 
+#include "core/adaptive.h"
 #include "core/camera.h"
 #include "core/integrator.h"
 
@@ -17,6 +18,7 @@ struct CommonOptions {
     int width = 512, height = 512;
     int threads = 0;             // 0: all cores
     RenderSettings settings;
+    AdaptiveSettings adaptive;                  // --noise-threshold, --min-spp
     std::string light_sampling = "on", mis = "on", rr = "on";
     std::string sampler = sampler_name(RenderSettings{}.sampler);
     std::vector<float> eye, target, up;

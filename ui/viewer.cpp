@@ -193,6 +193,7 @@ Viewer::Viewer(const ViewerOptions& o) : m_opt(o), m_log(o.log_file) {
     LoadedScene first = load_first_scene();
     m_saver = std::make_unique<SnapshotSaver>(o.snapshot_dir, [] { glfwPostEmptyEvent(); });
     m_state.settings = o.settings;
+    m_state.adaptive = o.adaptive;
     m_state.snapshot_dir = o.snapshot_dir;
     m_state.scene_path = first.scene->source;
     use_scene(std::move(first.scene), std::move(first.renderer));
@@ -617,6 +618,7 @@ void Viewer::post(const std::string& reason, bool with_materials, double now, do
     if (with_environment) req.environment = m_state.environment;
     req.camera = m_camera->desc();
     req.settings = m_state.settings;
+    req.adaptive = m_state.adaptive;
     req.width = std::max(1, m_full_w / m_level);
     req.height = std::max(1, m_full_h / m_level);
     if (with_materials) req.materials = m_state.materials;
