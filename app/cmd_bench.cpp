@@ -204,7 +204,8 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
         size_t point = 0;
         double seconds = 0.0;
         for (uint32_t target = 1;; target *= 2) {
-            while (renderer.stats().spp < target) seconds += timed_pass(renderer, o.clock == "cpu");
+            while (renderer.stats().spp < target && !renderer.converged())
+                seconds += timed_pass(renderer, o.clock == "cpu");
             const RenderStats& st = renderer.stats();
             BenchSample smp;
             smp.spp = st.spp;
@@ -231,7 +232,8 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
             progress.draw(progress_base + progress_step * (seed + f) / o.seeds,
                           config.name + " seed " + std::to_string(seed + 1) + "/" + std::to_string(o.seeds) + ", " +
                               std::to_string(st.spp) + " spp");
-            const bool last = seed == 0 ? (seconds * 2.0 > o.budget || target * 2 > o.max_spp) : target >= last_spp;
+            const bool last = seed == 0 ? (seconds * 2.0 > o.budget || target * 2 > o.max_spp || renderer.converged())
+                                        : target >= last_spp;
             if (last) {
                 if (seed == 0) last_spp = target;
                 break;
@@ -394,6 +396,7 @@ void run(BenchOptions& o) {
                     double(renderer.accel().stats().bytes) / (1024.0 * 1024.0));
         std::fflush(stdout);
         const Reference ref = make_reference(o, renderer, camera, progress);
+        renderer.set_adaptive(o.common.adaptive);  // the measured renders only, not the reference
         std::vector<BenchSeries> all;
         for (size_t i = 0; i < configs.size(); ++i)
             all.push_back(run_series(o, configs[i], renderer, camera, ref.image, progress,

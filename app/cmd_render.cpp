@@ -168,6 +168,7 @@ void run(RenderOptions& o) {
                      scene->triangle_count(), load_seconds, as.build_seconds, double(as.bytes) / (1 << 20),
                      double(as.bytes) / double(std::max<size_t>(1, scene->triangle_count())));
     }
+    renderer.set_adaptive(o.common.adaptive);
     renderer.restart(camera, o.common.settings, o.common.width, o.common.height);
     if (resumed) {
         const uint64_t hash = scene_hash(renderer.scene(), renderer.materials(), renderer.environment_settings());
@@ -185,6 +186,7 @@ void run(RenderOptions& o) {
         const RenderStats& st = renderer.stats();
         if (o.spp && st.spp >= static_cast<uint32_t>(*o.spp)) break;
         if (o.seconds && t >= *o.seconds && st.spp > 0) break;
+        if (renderer.converged()) break;
         if (tty && t - last_draw > 0.1) {
             const double f = o.spp ? double(st.spp) / *o.spp : t / *o.seconds;
             progress_bar(f, st.spp, t);
@@ -277,6 +279,12 @@ void run(RenderOptions& o) {
                 double(st.rays + st.shadow_rays) / double(std::max<uint64_t>(st.paths, 1)),
                 static_cast<unsigned long long>(st.dropped), renderer.threads(), renderer.settings().describe().c_str(),
                 written.c_str());
+    if (renderer.adaptive_settings().enabled())
+        std::printf("pathview: noise threshold %g: %.1f%% of pixels still active, %.1f samples per pixel on average%s\n",
+                    double(renderer.adaptive_settings().noise_threshold),
+                    100.0 * renderer.adaptive_mask().active_fraction(),
+                    double(st.paths) / double(std::max(1, o.common.width * o.common.height)),
+                    renderer.converged() ? " (every pixel converged)" : "");
 }
 
 }  // namespace

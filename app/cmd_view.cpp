@@ -31,6 +31,7 @@ void run(const ViewOptions& o) {
         return scene;
     };
     v.settings = o.common.settings;
+    v.adaptive = o.common.adaptive;
     v.width = o.common.width;
     v.height = o.common.height;
     v.threads = o.common.threads;

@@ -1,6 +1,7 @@
 // app/commands.h: the pathview subcommands. Each registers its options on the CLI and runs when chosen.
 #pragma once
 
+#include "core/adaptive.h"
 #include "core/camera.h"
 #include "core/image_io.h"
 #include "core/integrator.h"
@@ -18,6 +19,7 @@ struct CommonOptions {
     int width = 512, height = 512;
     int threads = 0;             // 0: all cores
     RenderSettings settings;
+    AdaptiveSettings adaptive;                  // --noise-threshold, --min-spp
     std::vector<float> eye, target, up;
     std::optional<float> fov, aperture, focus_distance;
     std::string environment;                    // "r,g,b", a number, a map file, or "sky"

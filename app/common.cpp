@@ -140,6 +140,13 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
         ->transform(choices({{"independent", int(SamplerKind::Independent)}, {"ind", int(SamplerKind::Independent)},
                              {"sobol", int(SamplerKind::Sobol)}}))
         ->default_str(sampler_name(o.settings.sampler));
+    cmd.add_option("--noise-threshold", o.adaptive.noise_threshold,
+                   "Adaptive sampling: a pixel whose relative error (from the two half buffers, averaged over 5x5 "
+                   "pixels) is below this stops taking samples, e.g. 0.02; 0: off")
+        ->check(finite_range(0, 1));
+    cmd.add_option("--min-spp", o.adaptive.min_spp, "Adaptive sampling: samples every pixel takes before it may stop")
+        ->check(CLI::Range(2u, 1u << 30))
+        ->capture_default_str();
     cmd.add_option("--eye", o.eye, "Camera position x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
     cmd.add_option("--target", o.target, "Camera target x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
     cmd.add_option("--up", o.up, "Camera up vector x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));

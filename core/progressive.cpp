@@ -5,6 +5,10 @@
 #include "core/progressive.h"
 
 #include "core/error.h"
+#include "core/metrics.h"
+
+#include <algorithm>
+#include <cmath>
 
 namespace pv {
 
@@ -110,7 +114,8 @@ std::optional<PickResult> ProgressiveRenderer::pick(const CameraDesc& camera, in
 
 bool ProgressiveRenderer::target_reached() const {
     const RenderStats& st = m_renderer.stats();
-    return (m_target_spp > 0 && st.spp >= m_target_spp) || (m_target_seconds > 0.0 && st.seconds >= m_target_seconds);
+    return (m_target_spp > 0 && st.spp >= m_target_spp) || (m_target_seconds > 0.0 && st.seconds >= m_target_seconds) ||
+           m_renderer.converged();
 }
 
 bool ProgressiveRenderer::partial_due() const { return m_partial_requested && m_renderer.stats().spp > 0; }
@@ -145,7 +150,9 @@ void ProgressiveRenderer::drive() {
         if (is_new) {
             if (!request.materials.empty()) m_renderer.set_materials(request.materials);
             if (request.environment) m_renderer.set_environment(*request.environment);
+            m_renderer.set_adaptive(request.adaptive);
             m_renderer.restart(request.camera, request.settings, request.width, request.height);
+            m_error_history.clear();
         }
         // Between passes the film holds whole passes only; a new accumulation gets its first pass first.
         if (make_partial && m_renderer.stats().spp > 0) {
@@ -179,6 +186,29 @@ void ProgressiveRenderer::drive() {
     }
 }
 
+double ProgressiveRenderer::seconds_to_threshold(float threshold) const {
+    // The worst active pixel's filtered relative MSE e at n samples falls as n^b, with b fitted log-log over the last
+    // four checkpoints (clamped to [-2, -0.5]; -1, the Monte Carlo rate, until there are two): it reaches
+    // threshold^2 after n (e / threshold^2)^(1/-b) samples, at the current pass time (passes get cheaper as pixels
+    // stop, so this errs long).
+    const RenderStats& st = m_renderer.stats();
+    const double e = m_renderer.adaptive_mask().worst_rel_mse(), limit = double(threshold) * double(threshold);
+    if (!(e > 0.0) || !std::isfinite(e) || st.spp == 0) return -1.0;
+    if (e <= limit) return 0.0;
+    double slope = -1.0;
+    const size_t n = m_error_history.size();
+    if (n >= 2) {
+        std::vector<double> spp, err;
+        for (size_t i = n > 4 ? n - 4 : 0; i < n; ++i) {
+            spp.push_back(m_error_history[i].first);
+            err.push_back(m_error_history[i].second);
+        }
+        slope = std::clamp(fit_loglog(spp, err).slope, -2.0, -0.5);
+    }
+    const double passes = double(st.spp) * (std::pow(e / limit, -1.0 / slope) - 1.0);
+    return passes * st.last_pass_seconds;
+}
+
 void ProgressiveRenderer::publish(uint64_t generation, bool target_reached) {
     // Fill the back buffer outside any lock, then swap it in: the UI's copy never waits for this loop.
     const Film& film = m_renderer.film();
@@ -196,6 +226,15 @@ void ProgressiveRenderer::publish(uint64_t generation, bool target_reached) {
     s.mrays_per_s = st.seconds > 0.0 ? double(s.rays) / st.seconds * 1e-6 : 0.0;
     s.ms_per_pass = st.last_pass_seconds * 1e3;
     s.target_reached = target_reached;
+    s.active_fraction = 1.0;
+    s.seconds_to_threshold = -1.0;
+    if (const AdaptiveSettings& a = m_renderer.adaptive_settings(); a.enabled()) {
+        const AdaptiveMask& mask = m_renderer.adaptive_mask();
+        s.active_fraction = mask.active_fraction();
+        if (is_adaptive_checkpoint(st.spp) && st.spp >= a.min_spp && mask.worst_rel_mse() > 0.0)
+            m_error_history.emplace_back(double(st.spp), mask.worst_rel_mse());
+        s.seconds_to_threshold = mask.converged() ? 0.0 : seconds_to_threshold(a.noise_threshold);
+    }
     s.camera = m_renderer.camera().desc();
     s.settings = m_renderer.settings();
     s.metadata = render_metadata(m_renderer);

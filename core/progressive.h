@@ -25,6 +25,7 @@ struct RenderRequest {
     int width = 1, height = 1;
     std::vector<Material> materials;
     std::optional<EnvironmentSettings> environment;  // nothing = keep the current one
+    AdaptiveSettings adaptive;                       // noise threshold (off by default)
 };
 
 // The published state of one accumulation after a completed pass. Images are row-major from the top-left.
@@ -43,7 +44,12 @@ struct Snapshot {
     double mrays_per_s = 0.0;
     double ms_per_pass = 0.0;      // the last pass
     double rel_mse = 0.0;          // Film::estimated_rel_mse(); 0 below 2 spp
-    bool target_reached = false;   // rendering stopped at the target spp / seconds
+    bool target_reached = false;   // rendering stopped at the target spp / seconds, or every pixel converged
+    // Adaptive sampling: the fraction of pixels still taking samples (1 without it), and the estimated seconds of
+    // rendering left until every pixel reaches the noise threshold (< 0: unknown), from a log-log fit of the worst
+    // active pixel's filtered error against samples over the last checkpoints, at the current pass time.
+    double active_fraction = 1.0;
+    double seconds_to_threshold = -1.0;
     CameraDesc camera;
     RenderSettings settings;
     Metadata metadata;             // render_metadata() of this accumulation, for EXR snapshots
@@ -71,7 +77,8 @@ public:
     uint64_t restart(const RenderRequest& request);
     // Pausing stops after the pass in flight (which is still published); resuming continues the accumulation.
     void set_paused(bool paused);
-    // Stops rendering (target_reached) once spp >= target_spp or seconds >= target_seconds; 0 = no target.
+    // Stops rendering (target_reached) once spp >= target_spp or seconds >= target_seconds, or once every pixel has
+    // reached the request's noise threshold; 0 = no target.
     void set_target(uint32_t target_spp, double target_seconds);
 
     // Copies the latest snapshot into `out` if its serial is newer than out.serial; returns whether it did.
@@ -101,6 +108,7 @@ private:
     bool should_render() const;
     bool partial_due() const;  // a requested partial render can be made now
     void publish(uint64_t generation, bool target_reached);
+    double seconds_to_threshold(float threshold) const;
 
     std::shared_ptr<const Scene> m_scene;
     Renderer m_renderer;  // used by the driver thread only, apart from its read-only BVH and scene
@@ -117,6 +125,8 @@ private:
     uint32_t m_target_spp = 0;
     double m_target_seconds = 0.0;
     std::function<void()> m_on_publish;
+    // (spp, worst active relative MSE) at the adaptive checkpoints of the current accumulation; driver thread.
+    std::vector<std::pair<double, double>> m_error_history;
 
     // The published snapshot, under m_snapshot_mutex; the driver fills m_back outside it.
     mutable std::mutex m_snapshot_mutex;

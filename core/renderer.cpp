@@ -57,6 +57,8 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     m_camera = Camera(camera, width, height);
     m_settings = settings;
     m_film.reset(width, height);
+    m_adaptive = m_adaptive_next;
+    m_mask.reset(width, height);
     m_stats = RenderStats{};
     m_next_sample = 0;
 }
@@ -77,6 +79,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const SceneView view{m_scene.get(), &m_materials, m_accel.get(), &m_lights, &m_environment};
     std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
     std::atomic<bool> cancelled{false};
+    const uint8_t* active = m_adaptive.enabled() ? m_mask.mask().data() : nullptr;  // nothing: every pixel
 
     const char fork_edge = 0, join_edge = 0;  // addresses for TSan's happens-before edges (core/tsan.h)
     tsan_release(&fork_edge);
@@ -95,6 +98,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                 const int x1 = std::min(x0 + kTile, w), y1 = std::min(y0 + kTile, h);
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) {
+                        if (active && !active[size_t(y) * size_t(w) + size_t(x)]) continue;
                         const Ray ray = camera_ray(m_camera, sampler, x, y, index);
                         const vec3 L = trace_path(view, m_settings, ray, sampler, tt.counters);
                         if (!m_film.add(x, y, index, L)) tt.dropped++;
@@ -114,6 +118,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     }
     m_stats.spp++;
     m_next_sample++;
+    m_mask.update(m_film, m_stats.spp, m_adaptive);
     m_stats.last_pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     m_stats.seconds += m_stats.last_pass_seconds;
     return true;
@@ -148,6 +153,11 @@ Metadata render_metadata(const Renderer& r) {
     m["pathview:rays"] = std::to_string(st.rays + st.shadow_rays);
     m["pathview:scene"] = r.scene().source;
     m["pathview:threads"] = std::to_string(r.threads());
+    if (r.adaptive_settings().enabled()) {
+        m["pathview:noise_threshold"] = std::to_string(r.adaptive_settings().noise_threshold);
+        m["pathview:min_spp"] = std::to_string(r.adaptive_settings().min_spp);
+        m["pathview:active_fraction"] = std::to_string(r.adaptive_mask().active_fraction());
+    }
     return m;
 }
 

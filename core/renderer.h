@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/accel.h"
+#include "core/adaptive.h"
 #include "core/camera.h"
 #include "core/film.h"
 #include "core/image_io.h"
@@ -50,7 +51,15 @@ public:
     // Replaces the film's accumulators with `film` (the current size; e.g. a partial render being resumed).
     void load_film(Film film);
 
-    // Adds one sample per pixel. Returns false if `cancel` became true during the pass (the film then holds a
+    // Adaptive sampling (core/adaptive.h) for the accumulations that follow: takes effect at the next restart().
+    void set_adaptive(const AdaptiveSettings& adaptive) { m_adaptive_next = adaptive; }
+    const AdaptiveSettings& adaptive_settings() const { return m_adaptive; }
+    // Which pixels still take samples (all of them without adaptive sampling).
+    const AdaptiveMask& adaptive_mask() const { return m_mask; }
+    // True once adaptive sampling has stopped every pixel: further passes add nothing.
+    bool converged() const { return m_adaptive.enabled() && m_mask.converged(); }
+
+    // Adds one sample per pixel (per active pixel with adaptive sampling). Returns false if `cancel` became true during the pass (the film then holds a
     // partial pass: call restart() before using it).
     bool render_pass(const std::atomic<bool>* cancel = nullptr);
 
@@ -78,6 +87,8 @@ private:
     RenderSettings m_settings;
     Camera m_camera;
     Film m_film;
+    AdaptiveSettings m_adaptive, m_adaptive_next;
+    AdaptiveMask m_mask;
     RenderStats m_stats;
     uint32_t m_next_sample = 0;
     int m_threads = 1;

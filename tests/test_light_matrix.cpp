@@ -48,6 +48,13 @@ struct LightCase {
     bool no_receiver = false;  // the light is the whole scene, seen from inside (the glowing enclosure)
     int max_depth = 1024;
     int samples = 20000;  // per cell
+    // Light sampling without MIS has infinite variance here (set false): a point near an edge of a concave emitter
+    // samples the neighbouring facet with contributions growing as 1/d^2, so the sample variance under-reports
+    // the error and a z-test from it is not valid. (Measured on the glowing enclosure, roulette off, 40000
+    // samples: z = -9.1, -1.4, -1.9, -9.8 for four seeds, with standard errors varying 3x between seeds, while
+    // BSDF-only and NEE+MIS stay within |z| < 2.1.) Those cells are not run; the estimator is still checked
+    // where its variance is finite (every other light type).
+    bool nee_without_mis_finite_variance = true;
 };
 
 uint32_t black_emitter(Scene& s, vec3 le, bool two_sided = false) {
@@ -182,7 +189,7 @@ std::vector<LightCase> light_cases() {
                      e = (1.0 - std::pow(double(kRho), 9.0)) / (1.0 - kRho);
                      hit = 1.0;
                  },
-                 true, 8, 4000});  // long paths: fewer of them
+                 true, 8, 4000, /*nee_without_mis_finite_variance=*/false});  // long paths: fewer of them
     return c;
 }
 
@@ -248,6 +255,7 @@ TEST_P(LightMatrix, AgreesWithItsClosedFormUnderEveryEstimator) {
     uint32_t seed = 1;
     for (const Estimator& est : kEstimators) {
         if (!est.nee && hit * n < min_hits) continue;  // BSDF sampling cannot see this light at this budget
+        if (est.nee && !est.mis && !c.nee_without_mis_finite_variance) continue;
         for (const bool rr : {false, true}) {
             RenderSettings s;
             s.sampler = SamplerKind::Independent;

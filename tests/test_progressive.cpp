@@ -233,4 +233,31 @@ TEST(ProgressiveRenderer, RunningAccumulationGivesWholePasses) {
 }
 
 }  // namespace
+
+// With a noise threshold, the driver stops once every pixel has stopped, each on a checkpoint count, not all on the
+// same one; the snapshot reports no active pixel and no time left.
+TEST(ProgressiveAdaptive, StopsWhenEveryPixelReachesTheThreshold) {
+    ProgressiveRenderer pr(cornell(), kThreads);
+    RenderRequest req = request(16, 16);
+    req.adaptive.noise_threshold = 0.2f;
+    req.adaptive.min_spp = 4;
+    const uint64_t g = pr.restart(req);
+    Snapshot s;
+    for (int i = 0; i < 2000 && !s.target_reached; ++i) {
+        pr.wait_for(g, s.spp + 1, 100ms);
+        pr.latest(s);
+    }
+    ASSERT_TRUE(s.target_reached) << s.spp << " spp, " << s.active_fraction << " active";
+    EXPECT_EQ(s.generation, g);
+    EXPECT_EQ(s.active_fraction, 0.0);
+    EXPECT_EQ(s.seconds_to_threshold, 0.0);
+    float lo = 1e30f, hi = 0.f;
+    for (float n : s.samples) {
+        EXPECT_TRUE(is_adaptive_checkpoint(uint32_t(n))) << n;
+        lo = std::min(lo, n);
+        hi = std::max(hi, n);
+    }
+    EXPECT_LT(lo, hi);
+}
+
 }  // namespace pv

@@ -115,7 +115,8 @@ void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& ac
     if (s.dropped) ImGui::TextColored(kWarningColour, "%llu non-finite samples dropped", (unsigned long long)s.dropped);
     const char* status = facts.minimised ? "minimised: paused"
                          : state.paused  ? "paused"
-                         : s.target_reached ? "target reached: stopped"
+                         : s.target_reached ? (s.active_fraction == 0.0 ? "noise threshold reached: stopped"
+                                                                         : "target reached: stopped")
                                              : "rendering";
     ImGui::Text("status: %s", status);
     ImGui::SetNextItemWidth(100.f);
@@ -127,6 +128,18 @@ void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& ac
     if (ImGui::InputFloat("target seconds", &state.target_seconds, 5.f, 60.f, "%.0f")) {
         state.target_seconds = std::max(state.target_seconds, 0.f);
         act.control_changed = true;
+    }
+    ImGui::SetNextItemWidth(100.f);
+    if (ImGui::InputFloat("stop at noise threshold", &state.adaptive.noise_threshold, 0.005f, 0.05f, "%.3f")) {
+        state.adaptive.noise_threshold = std::clamp(state.adaptive.noise_threshold, 0.f, 1.f);
+        act.settings_changed = true;  // pixels that stopped never restart: a new threshold needs a new accumulation
+    }
+    if (state.adaptive.enabled()) {
+        if (s.seconds_to_threshold >= 0.0)
+            ImGui::Text("%.1f%% of pixels active   at most about %.0f s left", 100.0 * s.active_fraction,
+                        s.seconds_to_threshold);
+        else
+            ImGui::Text("%.1f%% of pixels active", 100.0 * s.active_fraction);
     }
     if (ImGui::Button(state.paused ? "Resume" : "Pause")) {
         state.paused = !state.paused;

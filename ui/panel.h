@@ -21,6 +21,7 @@ struct ViewState {
     std::vector<Material> materials;
     DisplayParams display;
     int target_spp = 0;          // 0: none
+    AdaptiveSettings adaptive;   // "stop at noise threshold" (0: off); a change restarts the accumulation
     float target_seconds = 0.f;  // 0: none
     bool paused = false;
     int selected_material = -1;

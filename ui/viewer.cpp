@@ -148,6 +148,7 @@ Viewer::Viewer(const ViewerOptions& o) : m_opt(o), m_log(o.log_file) {
     LoadedScene first = load_first_scene();
     m_saver = std::make_unique<SnapshotSaver>(o.snapshot_dir, [] { glfwPostEmptyEvent(); });
     m_state.settings = o.settings;
+    m_state.adaptive = o.adaptive;
     m_state.snapshot_dir = o.snapshot_dir;
     m_state.scene_path = first.scene->source;
     use_scene(std::move(first));
@@ -431,6 +432,7 @@ void Viewer::post(const RefinementSchedule::Restart& restart, bool with_material
     if (with_environment) req.environment = m_state.environment;
     req.camera = m_camera->desc();
     req.settings = m_state.settings;
+    req.adaptive = m_state.adaptive;
     req.width = std::max(1, m_full_w / m_schedule.level());
     req.height = std::max(1, m_full_h / m_schedule.level());
     if (with_materials) req.materials = m_state.materials;

@@ -14,6 +14,7 @@ struct ViewerOptions {
     // Loads the scene with any camera overrides applied (throws pv::Error); called once a display is open.
     std::function<Scene()> load_scene;
     RenderSettings settings;
+    AdaptiveSettings adaptive;      // --noise-threshold, --min-spp
     int width = 512, height = 512;  // the initial image region, in pixels
     int threads = 0;                // 0: all cores
     std::string snapshot_dir = ".";
