@@ -39,6 +39,11 @@ TEST(TextureStorage, EightBitCodesLookUpAsTheFloatsTheyDecodeTo) {
                  srgb_code_to_linear(int(rng.next_u32() % 256)), float(rng.next_u32() % 256) / 255.f);
     const Texture coded(w, h, texels);
     EXPECT_EQ(coded.bytes(), texels.size() * 4) << "every texel is an 8-bit code: 4 bytes each";
+    // Every one of the 256 codes in every channel is recognised.
+    std::vector<vec4> all(256);
+    for (int c = 0; c < 256; ++c) all[size_t(c)] = vec4(srgb_code_to_linear(c), srgb_code_to_linear(255 - c),
+                                                        srgb_code_to_linear(c), float(255 - c) / 255.f);
+    EXPECT_EQ(Texture(16, 16, all).bytes(), all.size() * 4);
     // The same colours with one alpha that no byte gives: kept as floats.
     std::vector<vec4> odd = texels;
     odd[0].w = 0.3f;
