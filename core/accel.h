@@ -33,7 +33,8 @@ public:
           const std::function<void(double)>& progress = {});
     ~Accel();
     // Edited materials (same count as the scene's; ignored otherwise): rays see their alpha cut-outs from now on.
-    // Rebuilds the BVH only when the set of materials with a cut-out changes. Not concurrent with queries.
+    // Rebuilds the BVH only when the set of materials with a cut-out changes. Materials whose cut-outs are unchanged
+    // change nothing here; a cut-out edit must not be concurrent with queries.
     void set_materials(const std::vector<Material>& materials);
     Accel(const Accel&) = delete;
     Accel& operator=(const Accel&) = delete;
