@@ -45,18 +45,51 @@ bool on_memory(void* user, ssize_t bytes, bool) {
     return true;
 }
 
+// Triangles of the two Embree geometries: opaque ones (no filter) and those whose material has an alpha cut-out.
+constexpr unsigned kOpaqueGeometry = 0, kAlphaGeometry = 1;
+
+}  // namespace
+
+struct Accel::Impl {
+    DeviceErrors errors;
+    std::atomic<int64_t> memory{0};
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    AccelStats stats;
+    const Scene* source = nullptr;
+    std::vector<uint32_t> alpha;          // per material: its alpha texture (the edited materials'), or kNoIndex
+    std::vector<uint32_t> prims[2];       // per geometry: the Scene triangle of each primID (empty: the identity)
+
+    uint32_t scene_prim(unsigned geom, unsigned prim) const {
+        const std::vector<uint32_t>& map = prims[geom];
+        return map.empty() ? prim : map[prim];
+    }
+    void check(const char* what) {
+        std::lock_guard<std::mutex> lock(errors.mutex);
+        if (!errors.message.empty()) throw Error(std::string(what) + ": " + errors.message);
+    }
+    void build(const std::function<void(double)>* progress);
+    static void alpha_filter(const RTCFilterFunctionNArguments* args);
+    ~Impl() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
 // Stochastic alpha test (Enderton et al. 2010, "Stochastic Transparency"): a hit on a texel of opacity a is
 // kept with probability a, decided by a hash of the ray and the triangle, so the decision is deterministic per ray
-// and light passes through in proportion 1 - a. Runs for camera, bounce and shadow rays alike.
-void alpha_filter(const RTCFilterFunctionNArguments* args) {
-    const auto* scene = static_cast<const Scene*>(args->geometryUserPtr);
+// and light passes through in proportion 1 - a. Runs for camera, bounce and shadow rays alike, on the alpha
+// geometry only.
+void Accel::Impl::alpha_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* im = static_cast<const Impl*>(args->geometryUserPtr);
+    const Scene& scene = *im->source;
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] != -1) continue;
-        const uint32_t prim = RTCHitN_primID(args->hit, args->N, i);
-        const Material& m = scene->materials[scene->material_ids[prim]];
-        if (m.alpha_texture == kNoIndex) continue;
-        const vec2 uv = scene->uv_at(prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
-        const float alpha = scene->textures[m.alpha_texture].lookup(uv).w;
+        const uint32_t prim = im->scene_prim(kAlphaGeometry, RTCHitN_primID(args->hit, args->N, i));
+        const uint32_t texture = im->alpha[scene.material_ids[prim]];
+        if (texture == kNoIndex) continue;
+        const vec2 uv = scene.uv_at(prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+        const float alpha = scene.textures[texture].lookup(uv).w;
         if (alpha >= 1.f) continue;
         uint64_t h = prim;
         const float key[6] = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
@@ -72,67 +105,102 @@ void alpha_filter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
+namespace {
+
+std::vector<uint32_t> alpha_textures(const std::vector<Material>& materials) {
+    std::vector<uint32_t> out(materials.size());
+    for (size_t i = 0; i < materials.size(); ++i) out[i] = materials[i].alpha_texture;
+    return out;
+}
+
 }  // namespace
 
-struct Accel::Impl {
-    DeviceErrors errors;
-    std::atomic<int64_t> memory{0};
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    AccelStats stats;
-
-    void check(const char* what) {
-        std::lock_guard<std::mutex> lock(errors.mutex);
-        if (!errors.message.empty()) throw Error(std::string(what) + ": " + errors.message);
+void Accel::Impl::build(const std::function<void(double)>* progress) {
+    const Scene& s = *source;
+    if (scene) rtcReleaseScene(scene);
+    scene = rtcNewScene(device);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_MEDIUM);
+    // Robust mode: without it Embree's faster triangle test reports false hits on slivers whose vertices span
+    // many orders of magnitude, even from origins offset beyond p's error bound (tests/test_reintersection.cpp).
+    // It also makes Embree 3.13 ignore RTC_BUILD_QUALITY_HIGH (no spatial splits: docs/ray-speed.md).
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    // Split the triangles by whether their material has a cut-out; a geometry holding all of them keeps the
+    // identity mapping (no lookup per hit).
+    prims[kOpaqueGeometry].clear();
+    prims[kAlphaGeometry].clear();
+    for (uint32_t t = 0; t < uint32_t(s.triangles.size()); ++t)
+        prims[alpha[s.material_ids[t]] != kNoIndex ? kAlphaGeometry : kOpaqueGeometry].push_back(t);
+    RTCBuffer vertices = nullptr;
+    for (const unsigned g : {kOpaqueGeometry, kAlphaGeometry}) {
+        std::vector<uint32_t>& list = prims[g];
+        if (list.empty()) continue;
+        if (!vertices) {
+            // One vertex buffer for both geometries; Embree reads 16 bytes at the last vertex, hence the padding.
+            vertices = rtcNewBuffer(device, s.positions.size() * sizeof(vec3) + sizeof(float));
+            check("Embree buffer allocation");
+            std::memcpy(rtcGetBufferData(vertices), s.positions.data(), s.positions.size() * sizeof(vec3));
+        }
+        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        rtcSetGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices, 0, sizeof(vec3),
+                             s.positions.size());
+        auto* idx = static_cast<uvec3*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                sizeof(uvec3), list.size()));
+        check("Embree buffer allocation");
+        for (size_t i = 0; i < list.size(); ++i) idx[i] = s.triangles[list[i]];
+        if (g == kAlphaGeometry) {
+            rtcSetGeometryUserData(geom, this);
+            rtcSetGeometryIntersectFilterFunction(geom, alpha_filter);
+            rtcSetGeometryOccludedFilterFunction(geom, alpha_filter);
+        }
+        rtcCommitGeometry(geom);
+        rtcAttachGeometryByID(scene, geom, g);
+        rtcReleaseGeometry(geom);
+        if (list.size() == s.triangles.size()) list.clear();  // every triangle, in order: the identity
     }
-    ~Impl() {
-        if (scene) rtcReleaseScene(scene);
-        if (device) rtcReleaseDevice(device);
+    if (vertices) rtcReleaseBuffer(vertices);
+    if (progress && *progress) {
+        rtcSetSceneProgressMonitorFunction(
+            scene,
+            [](void* user, double fraction) {
+                (*static_cast<const std::function<void(double)>*>(user))(fraction);
+                return true;  // never cancel
+            },
+            const_cast<std::function<void(double)>*>(progress));
     }
-};
+    rtcCommitScene(scene);
+    check("Embree scene build");
+}
 
-Accel::Accel(const Scene& s, const std::function<void(double)>& progress) : m_impl(std::make_unique<Impl>()) {
+Accel::Accel(const Scene& s, const std::function<void(double)>& progress) : Accel(s, s.materials, progress) {}
+
+Accel::Accel(const Scene& s, const std::vector<Material>& materials, const std::function<void(double)>& progress)
+    : m_impl(std::make_unique<Impl>()) {
     const auto start = std::chrono::steady_clock::now();
     Impl& im = *m_impl;
     im.device = rtcNewDevice(nullptr);
     if (!im.device) throw Error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
     rtcSetDeviceErrorFunction(im.device, on_embree_error, &im.errors);
     rtcSetDeviceMemoryMonitorFunction(im.device, on_memory, &im.memory);
-    im.scene = rtcNewScene(im.device);
-    rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_MEDIUM);
-    // Robust mode: without it Embree's faster triangle test reports false hits on slivers whose vertices span
-    // many orders of magnitude, even from origins offset beyond p's error bound (tests/test_reintersection.cpp).
-    rtcSetSceneFlags(im.scene, RTC_SCENE_FLAG_ROBUST);
-    if (!s.triangles.empty()) {
-        RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                              3 * sizeof(float), s.positions.size()));
-        auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                   3 * sizeof(uint32_t), s.triangles.size()));
-        im.check("Embree buffer allocation");
-        std::memcpy(v, s.positions.data(), s.positions.size() * sizeof(vec3));
-        std::memcpy(idx, s.triangles.data(), s.triangles.size() * sizeof(uvec3));
-        if (std::any_of(s.materials.begin(), s.materials.end(), [](const Material& m) { return m.alpha_texture != kNoIndex; })) {
-            // Alpha cut-outs: only scenes that have them pay for the filter callbacks.
-            rtcSetGeometryUserData(geom, const_cast<Scene*>(&s));
-            rtcSetGeometryIntersectFilterFunction(geom, alpha_filter);
-            rtcSetGeometryOccludedFilterFunction(geom, alpha_filter);
-        }
-        rtcCommitGeometry(geom);
-        rtcAttachGeometry(im.scene, geom);
-        rtcReleaseGeometry(geom);
-    }
-    if (progress) {
-        rtcSetSceneProgressMonitorFunction(
-            im.scene,
-            [](void* user, double fraction) {
-                (*static_cast<const std::function<void(double)>*>(user))(fraction);
-                return true;  // never cancel
-            },
-            const_cast<std::function<void(double)>*>(&progress));
-    }
-    rtcCommitScene(im.scene);
-    im.check("Embree scene build");
+    im.source = &s;
+    im.alpha = alpha_textures(materials.size() == s.materials.size() ? materials : s.materials);
+    im.build(&progress);
+    im.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    im.stats.bytes = static_cast<size_t>(std::max<int64_t>(0, im.memory.load()));
+}
+
+void Accel::set_materials(const std::vector<Material>& materials) {
+    Impl& im = *m_impl;
+    if (materials.size() != im.alpha.size()) return;
+    std::vector<uint32_t> alpha = alpha_textures(materials);
+    // Edits that leave every cut-out as it was (colours, roughness, emission: all the viewer edits today) touch
+    // nothing, so they never race with a query (ProgressiveRenderer::pick runs on the UI thread).
+    if (alpha == im.alpha) return;
+    bool same_split = true;
+    for (size_t i = 0; i < alpha.size(); ++i) same_split &= (alpha[i] == kNoIndex) == (im.alpha[i] == kNoIndex);
+    im.alpha = std::move(alpha);
+    if (same_split) return;
+    const auto start = std::chrono::steady_clock::now();
+    im.build(nullptr);
     im.stats.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     im.stats.bytes = static_cast<size_t>(std::max<int64_t>(0, im.memory.load()));
 }
@@ -182,7 +250,7 @@ bool Accel::intersect(const Ray& ray, Hit& hit) const {
     hit.t = rh.ray.tfar;
     hit.u = rh.hit.u;
     hit.v = rh.hit.v;
-    hit.prim = rh.hit.primID;
+    hit.prim = m_impl->scene_prim(rh.hit.geomID, rh.hit.primID);
     return true;
 }
 

@@ -24,9 +24,18 @@ struct AccelStats {
 class Accel {
 public:
     // Builds the BVH. Throws pv::Error on an Embree device or build error. `progress`, when given, receives the
-    // build's completed fraction in [0, 1] from Embree's build threads (it must be thread-safe).
+    // build's completed fraction in [0, 1] from Embree's build threads (it must be thread-safe). Alpha cut-outs
+    // (Material::alpha_texture) come from `materials` (same count as the scene's), or the scene's own; triangles
+    // whose material has none are a separate Embree geometry without the filter callback, so opaque surfaces pay
+    // nothing for cut-outs elsewhere. The scene must outlive the Accel.
     explicit Accel(const Scene& scene, const std::function<void(double)>& progress = {});
+    Accel(const Scene& scene, const std::vector<Material>& materials,
+          const std::function<void(double)>& progress = {});
     ~Accel();
+    // Edited materials (same count as the scene's; ignored otherwise): rays see their alpha cut-outs from now on.
+    // Rebuilds the BVH only when the set of materials with a cut-out changes. Materials whose cut-outs are unchanged
+    // change nothing here; a cut-out edit must not be concurrent with queries.
+    void set_materials(const std::vector<Material>& materials);
     Accel(const Accel&) = delete;
     Accel& operator=(const Accel&) = delete;
 

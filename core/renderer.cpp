@@ -33,7 +33,7 @@ Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads, const std::f
     : m_scene(std::move(scene)), m_materials(m_scene->materials) {
     m_threads = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     m_pool = std::make_unique<Pool>(m_threads);
-    m_pool->arena.execute([&] { m_accel = std::make_unique<Accel>(*m_scene, build_progress); });
+    m_pool->arena.execute([&] { m_accel = std::make_unique<Accel>(*m_scene, m_materials, build_progress); });
     m_lights = LightSet(*m_scene, m_materials);
     m_environment_settings = pv::environment_settings(*m_scene);
     m_environment = Environment(*m_scene, m_environment_settings);
@@ -46,6 +46,7 @@ void Renderer::set_materials(const std::vector<Material>& materials) {
     if (materials.size() != m_scene->materials.size()) return;
     m_materials = materials;
     m_lights = LightSet(*m_scene, m_materials);
+    m_pool->arena.execute([&] { m_accel->set_materials(m_materials); });  // alpha cut-outs as edited
 }
 
 void Renderer::set_environment(const EnvironmentSettings& settings) {
