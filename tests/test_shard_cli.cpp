@@ -66,6 +66,13 @@ TEST(ShardCli, MergedShardsAndResumedPartEqualOneRender) {
     // A merged file resumes too, and image-defining flags are refused with --resume.
     expect_ok(pathview("render --resume " + d / "merged.exr" + " --spp 1 -q -o " + d / "more.exr"));
     EXPECT_EQ(format_ranges(read_partial(d.file("more.exr")).ranges), "0:9");
+    // With --time, as many whole samples as fit, from START, at most COUNT.
+    expect_ok(pathview("render --samples 100:100000 --time 0.05" + kSize + " -o " + d / "timed.exr"));
+    const PartialRender timed = read_partial(d.file("timed.exr"));
+    ASSERT_EQ(timed.ranges.size(), 1u);
+    EXPECT_EQ(timed.ranges[0].start, 100u);
+    EXPECT_GE(timed.ranges[0].count, 1u);
+    EXPECT_LT(timed.ranges[0].count, 100000u);
     const test::RunResult flagged = pathview("render --resume " + d / "a.exr" + " --seed 3 -q -o " + d / "x.exr");
     EXPECT_NE(flagged.exit_code, 0);
     EXPECT_NE(flagged.err.find("--seed comes from the part"), std::string::npos) << flagged.err;

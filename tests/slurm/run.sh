@@ -141,7 +141,7 @@ while [ "$(date +%s)" -lt "$deadline" ]; do
   sleep 0.2
 done
 t1=$(now_ms)
-[ "$state" = COMPLETED ] || fail "merge job $merge ended in state '${state:-unknown}' (timeout ${timeout}s)"
+[ "$state" = COMPLETED ] || fail "merge job $merge: state '${state:-unknown}' (waited at most ${timeout}s)"
 slurm_seconds=$(seconds $((t1 - t0)))
 # When each job ran (whole seconds).
 scontrol show job -o | grep -o 'JobId=[0-9]* \(ArrayJobId=[0-9]* ArrayTaskId=[0-9]* \)\?JobName=[^ ]*\|SubmitTime=[^ ]*\|StartTime=[^ ]*\|EndTime=[^ ]*' |
