@@ -126,8 +126,9 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
     else m.bsdf = Dielectric{ior};
 }
 
-Scene load_json(const std::string& path) {
-    const std::string text = read_regular_file(path, kMaxJsonBytes, "a JSON scene file");
+}  // namespace
+
+Scene load_scene_json_text(const std::string& text, const std::string& path) {
     json j;
     try {
         j = json::parse(text);
@@ -206,6 +207,8 @@ Scene load_json(const std::string& path) {
     use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment") || j.contains("sun"));
     return scene;
 }
+
+namespace {
 
 
 void use_default_sky_if_unlit(Scene& scene, bool lighting_given) {
@@ -300,7 +303,8 @@ void set_environment(Scene& scene, const std::string& spec) {
 
 Scene load_scene(const std::string& path) {
     const std::string ext = std::filesystem::path(path).extension().string();
-    if (ext == ".json" || ext == ".JSON") return load_json(path);
+    if (ext == ".json" || ext == ".JSON")
+        return load_scene_json_text(read_regular_file(path, kMaxJsonBytes, "a JSON scene file"), path);
     if (ext == ".obj" || ext == ".OBJ") {
         Scene scene = load_obj(path);
         scene.camera = scene.framing_camera();

@@ -230,7 +230,8 @@ TEST(UntrustedImage, EveryValidSeedLoadsWithoutWarning) {
 }
 
 TEST(UntrustedImage, TruncatedImagesWarnNamingTheFile) {
-    for (const char* name : {"repro_truncated.tga", "repro_truncated.bmp", "repro_truncated.ppm", "repro_truncated.hdr"}) {
+    for (const char* name : {"repro_truncated.tga", "repro_truncated.bmp", "repro_truncated.ppm", "repro_truncated.hdr",
+                             "repro_truncated.gif", "repro_truncated.psd", "repro_truncated.jpg"}) {
         std::vector<std::string> warnings;
         const std::string f = image(name);
         const std::string e = texture_error(f, &warnings);

@@ -166,6 +166,13 @@ def main():
                        ("hdr", hdr_flat(tw, th))):
         put(IMG, "repro_truncated." + name, data[:len(data) // 2])
     put(IMG, "repro_truncated_rle.hdr", hdr_rle(w, h)[:-5])
+    if shutil.which("convert"):
+        for ext, size in (("gif", "64x64"), ("psd", "32x32"), ("jpg", "64x64")):
+            seed = os.path.join(IMG, "seed_%s.%s" % (size, ext))
+            subprocess.run(["convert", "-size", size, "gradient:red-blue", "-swirl", "90", "+set", "date:create",
+                            "+set", "date:modify", "-strip", seed], check=True)
+            data = open(seed, "rb").read()
+            put(IMG, "repro_truncated." + ext, data[:len(data) // 2])
 
     # JSON scene files (the fuzzer provides a.obj, lit.obj and sky.hdr next to them).
     seeds = {
