@@ -111,11 +111,13 @@ void validate_hdr(const std::string& path, const std::string& b, bool& truncated
         if (l == "FORMAT=32-bit_rle_rgbe") rgbe = true;
     }
     if (!rgbe) throw Error(path + ": unsupported Radiance HDR format; expected FORMAT=32-bit_rle_rgbe");
-    const size_t res_start = pos;
-    if (!line(l)) l = b.substr(res_start);
+    if (!line(l)) {  // no newline after the resolution: no pixel data (stb reads zeros)
+        l = b.substr(pos, 1023);
+        pos = n;
+    }
     long h = 0, w = 0;
     char* end = nullptr;
-    if (l.compare(0, 3, "-Y ") != 0) throw Error(path + ": unsupported Radiance HDR layout '" + l.substr(0, 40) + "'; expected -Y height +X width");
+    if (l.compare(0, 3, "-Y ") != 0) throw Error(path + ": unsupported Radiance HDR layout; expected -Y height +X width");
     h = std::strtol(l.c_str() + 3, &end, 10);
     while (*end == ' ') ++end;
     if (std::strncmp(end, "+X ", 3) != 0) throw Error(path + ": unsupported Radiance HDR layout; expected -Y height +X width");
