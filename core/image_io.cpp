@@ -1,4 +1,7 @@
 // core/image_io.cpp: OpenEXR 3.1 and stb_image_write.
+// OpenEXR 3.1 allocates an attribute's declared size, and a chunk table of the declared length, before reading
+// them: the header is walked here first (prescan_exr), which bounds every such allocation by the file's size.
+// Guarding it keeps the Debian package; the C core API's limits would mean rewriting the reader for the same end.
 #include "core/image_io.h"
 
 #include "core/error.h"

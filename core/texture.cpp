@@ -1,4 +1,8 @@
 // core/texture.cpp: stb_image loading, sRGB decoding and bilinear lookup.
+// stb_image 2.27 (Debian 12) has no limits of its own and loops forever on some Radiance RLE data; it is guarded
+// here rather than replaced (OpenImageIO 2.4 would be the alternative): the faults are narrow and known, the guards
+// (declared size read first, the RLE walk, truncation found from stb's read position) are small and fuzzed
+// (tests/fuzz/fuzz_image.cpp), and OpenImageIO would add a large dependency tree to every build and CI run.
 #include "core/texture.h"
 
 #include "core/error.h"
