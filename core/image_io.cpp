@@ -307,13 +307,14 @@ void window_size(const std::string& path, Imf::InputFile& file, long& w, long& h
 // Reads R, G, B as FLOAT into the pixels at `data`, `xs` bytes apart, row after row of the data window.
 void read_rgb(const std::string& path, Imf::InputFile& file, char* data, size_t xs) {
     const Imath::Box2i dw = file.header().dataWindow();
-    const size_t ys = xs * (size_t(dw.max.x - dw.min.x) + 1);
-    char* base = data - (size_t(dw.min.x) * xs + size_t(dw.min.y) * ys);
+    const size_t ys = xs * (size_t(int64_t(dw.max.x) - dw.min.x) + 1);
     Imf::FrameBuffer fb;
     const char* names[] = {"R", "G", "B"};
     for (int c = 0; c < 3; ++c) {
         if (!file.header().channels().findChannel(names[c])) throw Error(path + ": EXR has no channel " + names[c]);
-        fb.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
+        // Slice::Make offsets the pointer by the window's origin in integer arithmetic: "data - origin" in pointer
+        // arithmetic overflows for a negative origin (UBSan, found by fuzz_image).
+        fb.insert(names[c], Imf::Slice::Make(Imf::FLOAT, data + c * sizeof(float), dw, xs, ys));
     }
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);

@@ -233,6 +233,25 @@ TEST(UntrustedImage, EveryValidSeedLoadsWithoutWarning) {
     EXPECT_EQ(exr.lookup(vec2(0.3f, 0.7f)), vec4(0.5f, 0.5f, 0.5f, 1.f));
 }
 
+// Every regression input of the fuzzers' corpus loads or gives an error naming the file; under the sanitizers
+// (make test-asan) any undefined behaviour on the way fails the run. regression_exr_negative_origin.exr: a data
+// window with a negative origin made the old slice-pointer arithmetic overflow (found by fuzz_image).
+TEST(UntrustedImage, EveryFuzzRegressionInputEndsCleanly) {
+    size_t n = 0;
+    for (const auto& entry : fs::directory_iterator(std::string(PATHVIEW_FUZZ_DIR) + "/corpus-image")) {
+        const std::string name = entry.path().filename().string();
+        if (name.rfind("regression_", 0) != 0) continue;
+        ++n;
+        const ChildResult r = run_bounded([&] {
+            const std::string e = texture_error(entry.path().string());
+            return e.empty() || contains(e, entry.path().string()) ? 0 : 2;
+        });
+        ASSERT_TRUE(r.finished) << name;
+        EXPECT_EQ(r.exit_code, 0) << name;
+    }
+    EXPECT_GE(n, 1u);
+}
+
 TEST(UntrustedImage, TruncatedImagesWarnNamingTheFile) {
     for (const char* name : {"repro_truncated.tga", "repro_truncated.bmp", "repro_truncated.ppm", "repro_truncated.hdr",
                              "repro_truncated.gif", "repro_truncated.psd", "repro_truncated.jpg"}) {
