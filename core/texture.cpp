@@ -35,11 +35,13 @@ std::string lower(std::string s) {
 
 Texture::Texture(int width, int height, std::vector<vec4> texels)
     : m_width(width), m_height(height), m_texels(std::move(texels)) {
-    for (const vec4& t : m_texels)
-        if (t.w < 1.f) {
-            m_has_alpha = true;
-            break;
-        }
+    for (vec4& t : m_texels) {
+        // A texel is finite and in [0, kMaxTexel]: bilinear weights of texels near FLT_MAX can round the lookup up
+        // to Inf (found by fuzz_image on an EXR holding uninitialised-looking huge values), and an environment
+        // map's importance sums stay finite.
+        t = std::isfinite(t.x + t.y + t.z + t.w) ? glm::clamp(t, vec4(0.f), vec4(kMaxTexel)) : vec4(0.f, 0.f, 0.f, 1.f);
+        m_has_alpha = m_has_alpha || t.w < 1.f;
+    }
 }
 
 namespace {
@@ -188,9 +190,9 @@ struct StbFree {
 // at tells whether it needed bytes the file lacks (truncated).
 constexpr size_t kPadding = 64;
 
-// EXR radiance as texels: negative and non-finite values set to 0, alpha 1.
+// EXR radiance as texels: negative and non-finite values set to 0 (the constructor), alpha 1.
 Texture from_exr_texels(std::vector<vec4> texels, int w, int h) {
-    for (vec4& t : texels) t = is_finite(vec3(t)) ? vec4(glm::max(vec3(t), vec3(0.f)), 1.f) : vec4(0.f, 0.f, 0.f, 1.f);
+    for (vec4& t : texels) t.w = 1.f;
     return Texture(w, h, std::move(texels));
 }
 
@@ -254,8 +256,6 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
             for (size_t i = 0; i < texels.size(); ++i) texels[i].w = float(q[4 * i]) / 255.f;
     }
     if (truncated) warn("the image data ends early (truncated file?); missing pixels are black");
-    for (vec4& t : texels)
-        if (!std::isfinite(t.x + t.y + t.z + t.w)) t = vec4(0.f, 0.f, 0.f, 1.f);
     return Texture(w, h, std::move(texels));
 }
 

@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <sstream>
 #include <thread>
 
@@ -250,6 +251,17 @@ TEST(UntrustedImage, EveryFuzzRegressionInputEndsCleanly) {
         EXPECT_EQ(r.exit_code, 0) << name;
     }
     EXPECT_GE(n, 1u);
+}
+
+TEST(UntrustedImage, TexelsAreSanitisedSoLookupsStayFinite) {
+    const float big = std::numeric_limits<float>::max(), nan = std::numeric_limits<float>::quiet_NaN();
+    const Texture t(2, 2, {vec4(big), vec4(big, big, big, 1.f), vec4(nan, 0.f, 0.f, 1.f), vec4(-5.f, big, 0.f, 1.f)});
+    for (int i = 0; i < 1000; ++i) {
+        const vec2 uv(float(i) * 0.00137f, float(i) * 0.00291f);
+        const vec4 v = t.lookup(uv);
+        ASSERT_TRUE(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) && std::isfinite(v.w)) << i;
+        ASSERT_TRUE(v.x >= 0.f && v.x <= Texture::kMaxTexel) << i;
+    }
 }
 
 TEST(UntrustedImage, TruncatedImagesWarnNamingTheFile) {
