@@ -121,7 +121,8 @@ class FdIStream : public Imf::IStream {
 public:
     FdIStream(int fd, const std::string& path, uint64_t size) : Imf::IStream(path.c_str()), m_fd(fd), m_size(size) {}
     bool read(char c[], int n) override {
-        if (n < 0 || m_pos + uint64_t(n) > m_size) throw Iex::InputExc("unexpected end of file");
+        // OpenEXR seeks to offsets read from the file: m_pos may be anything, so no m_pos + n (it can wrap).
+        if (n < 0 || m_pos > m_size || uint64_t(n) > m_size - m_pos) throw Iex::InputExc("unexpected end of file");
         while (n > 0) {
             if (m_pos < m_buf_start || m_pos >= m_buf_start + m_buf.size()) fill();
             const size_t off = size_t(m_pos - m_buf_start);
@@ -244,7 +245,9 @@ class MemIStream : public Imf::IStream {
 public:
     MemIStream(const std::string& bytes, const std::string& name) : Imf::IStream(name.c_str()), m_bytes(bytes) {}
     bool read(char c[], int n) override {
-        if (n < 0 || m_pos + uint64_t(n) > m_bytes.size()) throw Iex::InputExc("unexpected end of file");
+        // OpenEXR seeks to offsets read from the file: m_pos may be anything, so no m_pos + n (it can wrap).
+        if (n < 0 || m_pos > m_bytes.size() || uint64_t(n) > m_bytes.size() - m_pos)
+            throw Iex::InputExc("unexpected end of file");
         std::memcpy(c, m_bytes.data() + m_pos, size_t(n));
         m_pos += uint64_t(n);
         return m_pos < m_bytes.size();
