@@ -57,7 +57,7 @@ test-slurm: build
 # Sanitizer builds: no viewer, no micro-benchmarks; RelWithDebInfo for readable reports. The ASan+UBSan build uses
 # clang with libFuzzer instrumentation so that the suite and the fuzzer share one build (build-asan-fuzz).
 SAN_FLAGS := -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPATHVIEW_BUILD_UI=OFF -DPATHVIEW_BUILD_MICROBENCH=OFF -DPATHVIEW_WERROR=ON
-FUZZ_SECONDS ?= 60
+FUZZ_SECONDS ?= 40
 
 # The suite under ASan+UBSan (suites whose name ends in Slow skipped), then the renderer's threading suites
 # (names starting with Threading or Progressive) under TSan. TBB and Embree are not built with TSan: core/tsan.h
@@ -68,7 +68,7 @@ build-asan-fuzz: deps
 	@cmake -S . -B build-asan-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ $(SAN_FLAGS) \
 	  -DPATHVIEW_SANITIZE=address,undefined -DPATHVIEW_BUILD_FUZZER=ON > build-asan-fuzz.configure.log 2>&1 || \
 	  { cat build-asan-fuzz.configure.log; exit 1; }
-	@cmake --build build-asan-fuzz -j $(JOBS) --target pathview_tests pathview fuzz_obj
+	@cmake --build build-asan-fuzz -j $(JOBS) --target pathview_tests pathview fuzz_obj fuzz_image fuzz_scene_json
 
 test-asan: build-asan-fuzz
 	cd build-asan-fuzz && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
@@ -80,13 +80,18 @@ test-tsan: deps
 	cd build-tsan && TSAN_OPTIONS="suppressions=$(CURDIR)/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
 	  ctest --output-on-failure -j $(JOBS) -R '(^|/)(Threading|Progressive)'
 
-# libFuzzer over the OBJ import path (tests/fuzz) under ASan+UBSan, for FUZZ_SECONDS from the seed corpus
-# tests/fuzz/corpus (fixed seed, so a run is reproducible up to the time limit); new inputs go to
-# build-asan-fuzz/corpus (the repository's corpus is only read). A crash input is written to ./crash-*.
+# libFuzzer under ASan+UBSan, FUZZ_SECONDS each (fixed seed, so a run is reproducible up to the time limit), from
+# the seed corpora in tests/fuzz (only read; new inputs go to build-asan-fuzz/corpus-*): the OBJ import path
+# (corpus), the image loaders (corpus-image: seeds and the issue-15 reproducers) and the JSON scene reader
+# (corpus-json). A crash input is written to ./crash-*. Three fuzzers at 40 s keep `make test` within budget.
+FUZZERS := fuzz_obj:corpus fuzz_image:corpus-image fuzz_scene_json:corpus-json
 test-fuzz: build-asan-fuzz
-	@rm -rf build-asan-fuzz/corpus && mkdir -p build-asan-fuzz/corpus
-	./build-asan-fuzz/tests/fuzz/fuzz_obj -seed=1 -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
-	  -print_final_stats=1 build-asan-fuzz/corpus tests/fuzz/corpus
+	@set -e; for f in $(FUZZERS); do name=$${f%%:*}; seeds=$${f#*:}; \
+	  rm -rf build-asan-fuzz/$$seeds.new && mkdir -p build-asan-fuzz/$$seeds.new; \
+	  echo "make test-fuzz: $$name for $(FUZZ_SECONDS) s from tests/fuzz/$$seeds"; \
+	  ./build-asan-fuzz/tests/fuzz/$$name -seed=1 -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
+	    -print_final_stats=1 build-asan-fuzz/$$seeds.new tests/fuzz/$$seeds; \
+	done
 
 bench: build
 	./$(BUILD)/pathview bench

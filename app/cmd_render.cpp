@@ -17,8 +17,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
-#include <limits>
 #include <future>
+#include <limits>
 #include <memory>
 #include <mutex>
 

@@ -1,4 +1,7 @@
 // core/image_io.cpp: OpenEXR 3.1 and stb_image_write.
+// OpenEXR 3.1 allocates an attribute's declared size, and a chunk table of the declared length, before reading
+// them: the header is walked here first (prescan_exr), which bounds every such allocation by the file's size.
+// Guarding it keeps the Debian package; the C core API's limits would mean rewriting the reader for the same end.
 #include "core/image_io.h"
 
 #include "core/error.h"
@@ -126,7 +129,8 @@ class FdIStream : public Imf::IStream {
 public:
     FdIStream(int fd, const std::string& path, uint64_t size) : Imf::IStream(path.c_str()), m_fd(fd), m_size(size) {}
     bool read(char c[], int n) override {
-        if (n < 0 || m_pos + uint64_t(n) > m_size) throw Iex::InputExc("unexpected end of file");
+        // OpenEXR seeks to offsets read from the file: m_pos may be anything, so no m_pos + n (it can wrap).
+        if (n < 0 || m_pos > m_size || uint64_t(n) > m_size - m_pos) throw Iex::InputExc("unexpected end of file");
         while (n > 0) {
             if (m_pos < m_buf_start || m_pos >= m_buf_start + m_buf.size()) fill();
             const size_t off = size_t(m_pos - m_buf_start);
@@ -249,7 +253,9 @@ class MemIStream : public Imf::IStream {
 public:
     MemIStream(const std::string& bytes, const std::string& name) : Imf::IStream(name.c_str()), m_bytes(bytes) {}
     bool read(char c[], int n) override {
-        if (n < 0 || m_pos + uint64_t(n) > m_bytes.size()) throw Iex::InputExc("unexpected end of file");
+        // OpenEXR seeks to offsets read from the file: m_pos may be anything, so no m_pos + n (it can wrap).
+        if (n < 0 || m_pos > m_bytes.size() || uint64_t(n) > m_bytes.size() - m_pos)
+            throw Iex::InputExc("unexpected end of file");
         std::memcpy(c, m_bytes.data() + m_pos, size_t(n));
         m_pos += uint64_t(n);
         return m_pos < m_bytes.size();
@@ -312,13 +318,14 @@ void window_size(const std::string& path, Imf::InputFile& file, long& w, long& h
 // Reads R, G, B as FLOAT into the pixels at `data`, `xs` bytes apart, row after row of the data window.
 void read_rgb(const std::string& path, Imf::InputFile& file, char* data, size_t xs) {
     const Imath::Box2i dw = file.header().dataWindow();
-    const size_t ys = xs * (size_t(dw.max.x - dw.min.x) + 1);
-    char* base = data - (size_t(dw.min.x) * xs + size_t(dw.min.y) * ys);
+    const size_t ys = xs * (size_t(int64_t(dw.max.x) - dw.min.x) + 1);
     Imf::FrameBuffer fb;
     const char* names[] = {"R", "G", "B"};
     for (int c = 0; c < 3; ++c) {
         if (!file.header().channels().findChannel(names[c])) throw Error(path + ": EXR has no channel " + names[c]);
-        fb.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
+        // Slice::Make offsets the pointer by the window's origin in integer arithmetic: "data - origin" in pointer
+        // arithmetic overflows for a negative origin (UBSan, found by fuzz_image).
+        fb.insert(names[c], Imf::Slice::Make(Imf::FLOAT, data + c * sizeof(float), dw, xs, ys));
     }
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);

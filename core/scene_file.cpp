@@ -126,8 +126,9 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
     else m.bsdf = Dielectric{ior};
 }
 
-Scene load_json(const std::string& path) {
-    const std::string text = read_regular_file(path, kMaxJsonBytes, "a JSON scene file");
+}  // namespace
+
+Scene load_scene_json_text(const std::string& text, const std::string& path) {
     json j;
     try {
         j = json::parse(text);
@@ -207,6 +208,8 @@ Scene load_json(const std::string& path) {
     return scene;
 }
 
+namespace {
+
 
 void use_default_sky_if_unlit(Scene& scene, bool lighting_given) {
     if (lighting_given || scene.has_emitters() || scene.triangles.empty()) return;
@@ -276,7 +279,8 @@ void set_environment_map(Scene& scene, const std::string& spec) {
 
 Scene load_scene(const std::string& path) {
     const std::string ext = std::filesystem::path(path).extension().string();
-    if (ext == ".json" || ext == ".JSON") return load_json(path);
+    if (ext == ".json" || ext == ".JSON")
+        return load_scene_json_text(read_regular_file(path, kMaxJsonBytes, "a JSON scene file"), path);
     if (ext == ".obj" || ext == ".OBJ") {
         Scene scene = load_obj(path);
         scene.camera = scene.framing_camera();

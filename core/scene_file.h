@@ -23,6 +23,9 @@ namespace pv {
 
 // Loads `path` (.json or .obj). Throws pv::Error with "<file>: what is wrong".
 Scene load_scene(const std::string& path);
+// Loads a JSON scene file's text; `path` names it in messages and relative paths start from its folder (the
+// fuzzer's entry point). Errors name the file and the JSON pointer of the key: "s.json: /camera/fov: expected ...".
+Scene load_scene_json_text(const std::string& text, const std::string& path);
 
 // Saves `camera` as bookmark `name` (replacing one of that name) in the scene file `path`: a JSON scene file is
 // rewritten with its other keys kept; for an OBJ, a scene file "<obj>.json" next to it is created or updated.

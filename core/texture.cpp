@@ -1,4 +1,8 @@
 // core/texture.cpp: stb_image loading, sRGB decoding and bilinear lookup.
+// stb_image 2.27 (Debian 12) has no limits of its own and loops forever on some Radiance RLE data; it is guarded
+// here rather than replaced (OpenImageIO 2.4 would be the alternative): the faults are narrow and known, the guards
+// (declared size read first, the RLE walk, truncation found from stb's read position) are small and fuzzed
+// (tests/fuzz/fuzz_image.cpp), and OpenImageIO would add a large dependency tree to every build and CI run.
 #include "core/texture.h"
 
 #include "core/error.h"
@@ -79,11 +83,13 @@ float srgb_code_to_linear(int c) { return srgb_table()[std::clamp(c, 0, 255)]; }
 
 Texture::Texture(int width, int height, std::vector<vec4> texels)
     : m_width(width), m_height(height), m_texels(std::move(texels)) {
-    for (const vec4& t : m_texels)
-        if (t.w < 1.f) {
-            m_has_alpha = true;
-            break;
-        }
+    for (vec4& t : m_texels) {
+        // A texel is finite and in [0, kMaxTexel]: bilinear weights of texels near FLT_MAX can round the lookup up
+        // to Inf (found by fuzz_image on an EXR holding uninitialised-looking huge values), and an environment
+        // map's importance sums stay finite.
+        t = std::isfinite(t.x + t.y + t.z + t.w) ? glm::clamp(t, vec4(0.f), vec4(kMaxTexel)) : vec4(0.f, 0.f, 0.f, 1.f);
+        m_has_alpha = m_has_alpha || t.w < 1.f;
+    }
     // Keep 8-bit codes instead when every texel is one exactly (bit for bit, so lookups return the same values).
     std::vector<uint32_t> codes(m_texels.size());
     for (size_t i = 0; i < m_texels.size(); ++i) {
@@ -183,11 +189,13 @@ void validate_hdr(const std::string& path, const std::string& b, bool& truncated
         if (l == "FORMAT=32-bit_rle_rgbe") rgbe = true;
     }
     if (!rgbe) throw Error(path + ": unsupported Radiance HDR format; expected FORMAT=32-bit_rle_rgbe");
-    const size_t res_start = pos;
-    if (!line(l)) l = b.substr(res_start);
+    if (!line(l)) {  // no newline after the resolution: no pixel data (stb reads zeros)
+        l = b.substr(pos, 1023);
+        pos = n;
+    }
     long h = 0, w = 0;
     char* end = nullptr;
-    if (l.compare(0, 3, "-Y ") != 0) throw Error(path + ": unsupported Radiance HDR layout '" + l.substr(0, 40) + "'; expected -Y height +X width");
+    if (l.compare(0, 3, "-Y ") != 0) throw Error(path + ": unsupported Radiance HDR layout; expected -Y height +X width");
     h = std::strtol(l.c_str() + 3, &end, 10);
     while (*end == ' ') ++end;
     if (std::strncmp(end, "+X ", 3) != 0) throw Error(path + ": unsupported Radiance HDR layout; expected -Y height +X width");
@@ -244,9 +252,9 @@ struct StbFree {
 // at tells whether it needed bytes the file lacks (truncated).
 constexpr size_t kPadding = 64;
 
-// EXR radiance as texels: negative and non-finite values set to 0, alpha 1.
+// EXR radiance as texels: negative and non-finite values set to 0 (the constructor), alpha 1.
 Texture from_exr_texels(std::vector<vec4> texels, int w, int h) {
-    for (vec4& t : texels) t = is_finite(vec3(t)) ? vec4(glm::max(vec3(t), vec3(0.f)), 1.f) : vec4(0.f, 0.f, 0.f, 1.f);
+    for (vec4& t : texels) t.w = 1.f;
     return Texture(w, h, std::move(texels));
 }
 
@@ -310,8 +318,6 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
             for (size_t i = 0; i < texels.size(); ++i) texels[i].w = float(q[4 * i]) / 255.f;
     }
     if (truncated) warn("the image data ends early (truncated file?); missing pixels are black");
-    for (vec4& t : texels)
-        if (!std::isfinite(t.x + t.y + t.z + t.w)) t = vec4(0.f, 0.f, 0.f, 1.f);
     return Texture(w, h, std::move(texels));
 }
 

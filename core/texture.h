@@ -15,7 +15,9 @@ namespace pv {
 class Texture {
 public:
     Texture() = default;
-    // Builds from linear RGBA texels, row 0 at the top.
+    // Largest texel value kept: larger ones are clamped, negative ones set to 0, non-finite texels to (0, 0, 0, 1).
+    static constexpr float kMaxTexel = 1e20f;
+    // Builds from linear RGBA texels, row 0 at the top (sanitised as above).
     Texture(int width, int height, std::vector<vec4> texels);
 
     // Loads PNG/JPG/TGA/BMP/PSD/GIF/PNM (sRGB colour, linear alpha) through stb_image, Radiance HDR (linear)

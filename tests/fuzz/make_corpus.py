@@ -149,7 +149,9 @@ def main():
     put(IMG, "repro_huge.gif", gif_declaring(big, big))
     put(IMG, "repro_huge.psd", b"8BPS" + struct.pack(">H6xHIIHH", 1, 3, big, big, 8, 3) + struct.pack(">III", 0, 0, 0)
         + struct.pack(">H", 0) + b"\0" * 16)
-    put(IMG, "repro_huge_11585.hdr", HDR_HEAD + b"-Y 11585 +X 11585\n" + bytes([2, 2, 0x2D, 0x41]) + bytes([255, 7]) * 34)
+    # 117 bytes of flat (non-RLE: the first byte is not 2) pixels; stb decodes the missing 134 million as zeros.
+    h11585 = HDR_HEAD + b"-Y 11585 +X 11585\n"
+    put(IMG, "repro_huge_11585.hdr", h11585 + bytes([100, 80, 60, 128]) * ((117 - len(h11585)) // 4))
     put(IMG, "repro_huge_window.exr", exr(1, 1, window=(0, 0, 16383, 16383))[:600])
     # An EXR whose 'comments' attribute declares 2 GB (OpenEXR allocated it before reading).
     attr = struct.pack("<ii", 20000630, 2) + b"comments\0string\0" + struct.pack("<i", 0x7FFFFFF0)
@@ -166,6 +168,13 @@ def main():
                        ("hdr", hdr_flat(tw, th))):
         put(IMG, "repro_truncated." + name, data[:len(data) // 2])
     put(IMG, "repro_truncated_rle.hdr", hdr_rle(w, h)[:-5])
+    if shutil.which("convert"):
+        for ext, size in (("gif", "64x64"), ("psd", "32x32"), ("jpg", "64x64")):
+            seed = os.path.join(IMG, "seed_%s.%s" % (size, ext))
+            subprocess.run(["convert", "-size", size, "gradient:red-blue", "-swirl", "90", "+set", "date:create",
+                            "+set", "date:modify", "-strip", seed], check=True)
+            data = open(seed, "rb").read()
+            put(IMG, "repro_truncated." + ext, data[:len(data) // 2])
 
     # JSON scene files (the fuzzer provides a.obj, lit.obj and sky.hdr next to them).
     seeds = {
