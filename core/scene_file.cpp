@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/image_io.h"
+#include "core/material_params.h"
 #include "core/obj_loader.h"
 
 #include <nlohmann/json.hpp>
@@ -103,27 +104,20 @@ json camera_json(const CameraDesc& c) {
 // Applies a material override: the "type" chooses the BSDF, other keys set its parameters.
 void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& at) {
     const json& o = r.object(j, at, {"type", "base_color", "specular", "roughness", "ior", "emission"});
-    vec3 base(0.8f), spec(0.04f);
-    float rough = 0.2f, ior = 1.5f;
-    if (auto* l = std::get_if<Lambertian>(&m.bsdf)) base = l->albedo;
-    if (auto* g = std::get_if<Glossy>(&m.bsdf)) base = g->diffuse, spec = g->specular, rough = g->alpha;
-    if (auto* mi = std::get_if<Mirror>(&m.bsdf)) spec = mi->reflectance;
-    if (auto* d = std::get_if<Dielectric>(&m.bsdf)) ior = d->eta;
-    std::string type = bsdf_type_name(m.bsdf);
+    BsdfParams p = bsdf_params(m.bsdf);
     if (o.contains("type")) {
-        type = r.string(o["type"], at / "type");
-        if (type != "diffuse" && type != "glossy" && type != "mirror" && type != "glass")
+        const std::string type = r.string(o["type"], at / "type");
+        if (!parse_bsdf_type(type, p.type))
             r.fail(at / "type", "unknown type '" + type + "'; expected diffuse, glossy, mirror or glass");
     }
-    if (o.contains("base_color")) base = r.vec(o["base_color"], at / "base_color", 0.f, 1.f);
-    if (o.contains("specular")) spec = r.vec(o["specular"], at / "specular", 0.f, 1.f);
-    if (o.contains("roughness")) rough = std::max(kMinAlpha, r.number(o["roughness"], at / "roughness", 0.f, 1.f));
-    if (o.contains("ior")) ior = r.number(o["ior"], at / "ior", 1e-3f, 1e3f);
+    if (o.contains("base_color")) p.base = r.vec(o["base_color"], at / "base_color", 0.f, 1.f);
+    if (o.contains("specular")) p.specular = r.vec(o["specular"], at / "specular", 0.f, 1.f);
+    if (o.contains("roughness")) p.roughness = r.number(o["roughness"], at / "roughness", 0.f, 1.f);
+    if (o.contains("ior")) p.ior = r.number(o["ior"], at / "ior", 1e-3f, 1e3f);
     if (o.contains("emission")) m.emission = r.vec(o["emission"], at / "emission", 0.f, kBig);
-    if (type == "diffuse") m.bsdf = Lambertian{base};
-    else if (type == "glossy") m.bsdf = Glossy{base, spec, rough};
-    else if (type == "mirror") m.bsdf = Mirror{spec};
-    else m.bsdf = Dielectric{ior};
+    // A mirror's reflectance is its "specular" colour when given (the MTL's Ks), else its base colour.
+    if (p.type == BsdfType::Mirror && o.contains("specular")) p.base = p.specular;
+    m.bsdf = make_bsdf(p);  // the one conversion: keeps a glossy material's diffuse + specular <= 1
 }
 
 }  // namespace

@@ -11,6 +11,8 @@
 //     "two_sided_emitters": false,
 //     "materials": { "name": { "type": "diffuse|glossy|mirror|glass", "base_color": [r,g,b],
 //                              "specular": [r,g,b], "roughness": a, "ior": n, "emission": [r,g,b] } } }
+//   (through core/material_params.h: a glossy material keeps diffuse + specular <= 1 per channel; a mirror
+//   reflects its "specular" colour when given, else its base colour)
 // An OBJ alone is framed automatically from its bounds. A scene with no emitter and neither "background" nor
 // "environment" is lit by the default sky (a warning says so). Errors are pv::Error naming the file.
 #pragma once

@@ -2,8 +2,11 @@
 // promises for any input, and round-trips what it accepts.
 #include "core/material_params.h"
 
+#include "core/scene_file.h"
+
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <limits>
 
 namespace pv {
@@ -79,4 +82,36 @@ TEST(MaterialParams, RoundTripsValidParameters) {
     EXPECT_FALSE(parse_bsdf_type("plastic", unused));
 }
 
+}  // namespace pv
+
+// scene.json material overrides go through the same conversion: a glossy override keeps diffuse + specular <= 1
+// (before, {"base_color": [0.9, ...], "specular": [0.5, ...]} made an albedo of 1.4), and a mirror reflects the
+// "specular" colour given, else its base colour.
+namespace pv {
+TEST(MaterialParams, SceneFileOverridesKeepTheInvariants) {
+    const std::string dir = std::filesystem::path(builtin_scene_path()).parent_path().string();
+    const std::string json = R"({"obj": "cornell-box.obj", "materials": {
+        "white": {"type": "glossy", "base_color": [0.9, 0.9, 0.9], "specular": [0.5, 0.2, 0.0], "roughness": 0.3},
+        "red": {"type": "mirror", "specular": [0.7, 0.6, 0.5]},
+        "green": {"type": "mirror"}}})";
+    const Scene scene = load_scene_json_text(json, dir + "/overrides.json");
+    int checked = 0;
+    for (const Material& m : scene.materials) {
+        if (m.name == "white") {
+            const Glossy g = std::get<Glossy>(m.bsdf);
+            for (int c = 0; c < 3; ++c) EXPECT_LE(g.diffuse[c] + g.specular[c], 1.f) << c;
+            EXPECT_EQ(g.specular, vec3(0.5f, 0.2f, 0.f));
+            EXPECT_EQ(g.alpha, 0.3f);
+            ++checked;
+        } else if (m.name == "red") {
+            EXPECT_EQ(std::get<Mirror>(m.bsdf).reflectance, vec3(0.7f, 0.6f, 0.5f));
+            ++checked;
+        } else if (m.name == "green") {
+            // The base colour of the MTL's green diffuse, not a near-black 0.04.
+            EXPECT_GT(std::get<Mirror>(m.bsdf).reflectance.y, 0.1f);
+            ++checked;
+        }
+    }
+    EXPECT_EQ(checked, 3);
+}
 }  // namespace pv
