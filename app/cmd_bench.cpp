@@ -1,7 +1,7 @@
 // app/cmd_bench.cpp: `pathview bench`: speed against error. Renders (or loads) a reference, then for each
 // configuration and seed renders a doubling series of spp until the time budget, measures error and speed at
 // each power-of-two spp, and reports a table, equal-time comparison, log-log slopes, CSV and SVG. With --rays it
-// also measures Embree's raw ray rate on the same scene and ray mix (core/raybench.h) and the path tracer's
+// also measures Embree's raw ray rate on the same scene and ray mix (app/bench/raybench.h) and the path tracer's
 // fraction of it. Benchmarks report figures; they never fail on time.
 #include "app/bench.h"
 #include "app/commands.h"
@@ -11,10 +11,10 @@
 #include "core/denoise_nfor.h"
 #include "core/error.h"
 #include "core/image_io.h"
-#include "core/raybench.h"
+#include "app/bench/raybench.h"
 #include "core/renderer.h"
 #include "core/scene_file.h"
-#include "core/scene_gen.h"
+#include "app/bench/scene_gen.h"
 
 #include <unistd.h>
 

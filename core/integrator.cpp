@@ -161,16 +161,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
                 const bool same_side = (cos_gl > 0.f) == (wi.z > 0.f);
                 const vec3 f = same_side ? eval(*bsdf, wo, wi) : vec3(0.f);
                 if (!is_black(f)) {
-                    // Shadow ray between offset endpoints; t in [0, 1) of the unnormalised segment.
-                    Ray shadow;
-                    shadow.o = origin_toward(ls.wi);
-                    if (std::isinf(ls.dist)) {
-                        shadow.d = ls.wi;  // toward the environment: unbounded
-                    } else {
-                        const vec3 target = offset_ray_origin(ls.p, glm::dot(ls.wi, ls.n) < 0.f ? ls.n : -ls.n, ls.p_error);
-                        shadow.d = target - shadow.o;
-                        shadow.tmax = 1.f - 1e-4f;  // pbrt-v4's ShadowEpsilon
-                    }
+                    const Ray shadow = shadow_ray(origin_toward(ls.wi), ls);
                     ++shadow_rays;
                     if (!view.accel->occluded(shadow)) {
                         // The power heuristic's weight over the light pdf, w / p_l = p_l / (p_l^2 + p_b^2): one

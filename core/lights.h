@@ -7,6 +7,7 @@
 // about 2^-24 (their pmf is 0): the integrator leaves those to BSDF sampling, as it does any emitter of pdf 0.
 #pragma once
 
+#include "core/camera.h"
 #include "core/distribution.h"
 #include "core/scene.h"
 #include "core/warp.h"
@@ -26,6 +27,23 @@ struct LightSample {
     float dist = 0.f;
     float pdf = 0.f;   // per solid angle at the shading point
 };
+
+// The shadow ray of a light sample, from `origin` (the shading point already offset to the side ls.wi leaves by):
+// toward a point on an emitter, the segment to that point offset off the emitter (t in [0, 1 - 1e-4) of the
+// unnormalised segment, pbrt-v4's ShadowEpsilon); toward the environment (dist infinite), unbounded along ls.wi.
+// The integrator and the benchmark's minimal kernel both build their shadow rays here.
+inline Ray shadow_ray(vec3 origin, const LightSample& ls) {
+    Ray shadow;
+    shadow.o = origin;
+    if (std::isinf(ls.dist)) {
+        shadow.d = ls.wi;
+    } else {
+        const vec3 target = offset_ray_origin(ls.p, glm::dot(ls.wi, ls.n) < 0.f ? ls.n : -ls.n, ls.p_error);
+        shadow.d = target - shadow.o;
+        shadow.tmax = 1.f - 1e-4f;
+    }
+    return shadow;
+}
 
 class LightSet {
 public:

@@ -1,6 +1,6 @@
 // tests/test_raybench.cpp: the ray-rate ceiling's arithmetic and the minimal kernel's bookkeeping (rates
 // themselves are timings, measured by `pathview bench --rays`, never asserted here).
-#include "core/raybench.h"
+#include "app/bench/raybench.h"
 #include "core/renderer.h"
 #include "tests/support/scenes.h"
 

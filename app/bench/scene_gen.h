@@ -1,4 +1,4 @@
-// core/scene_gen.h: scenes generated at run time, by keyword, for benchmarks (a large mesh is not shipped).
+// app/bench/scene_gen.h: scenes generated at run time, by keyword, for benchmarks (a large mesh is not shipped).
 //   "large-mesh": the built-in Cornell box with a displaced sphere of 1,046,528 triangles (1024 x 512 grid) on a
 //                 white diffuse material, standing in for the box's contents.
 #pragma once

@@ -1,5 +1,5 @@
-// core/scene_gen.cpp: generated benchmark scenes (see scene_gen.h).
-#include "core/scene_gen.h"
+// app/bench/scene_gen.cpp: generated benchmark scenes (see scene_gen.h).
+#include "app/bench/scene_gen.h"
 
 #include "core/scene_file.h"
 

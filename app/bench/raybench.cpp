@@ -1,5 +1,5 @@
-// core/raybench.cpp: ray generation (untimed) and timed tracing loops on a TBB arena (see raybench.h).
-#include "core/raybench.h"
+// app/bench/raybench.cpp: ray generation (untimed) and timed tracing loops on a TBB arena (see raybench.h).
+#include "app/bench/raybench.h"
 
 #include "core/rng.h"
 #include "core/surface.h"
@@ -41,12 +41,13 @@ struct RaySets {
 // The random walk behind both the recorded ray sets and the minimal kernel: one jittered camera ray for pixel
 // (x, y); from each hit, one shadow ray to a light point (or toward the environment when there are no emitters),
 // built as the integrator builds it, and a cosine-distributed bounce, up to walk_depth bounces. Every surface is
-// treated as white Lambertian. `camera_ray`, `bounce_ray` and `shadow_ray` receive the rays; the closest-hit ones
-// are traced here (the walk needs their hits), shadow_ray decides what to do with its ray.
+// treated as white Lambertian. `camera_ray`, `bounce_ray` and `on_shadow` receive the rays; the closest-hit ones
+// are traced here (the walk needs their hits), on_shadow decides what to do with its ray (built by the integrator's
+// own pv::shadow_ray).
 template <class OnCamera, class OnBounce, class OnShadow>
 inline void random_walk(const Scene& scene, const Accel& accel, const LightSet& lights, const Environment& env,
                         const Camera& camera, int x, int y, int walk_depth, Pcg32& rng, OnCamera&& camera_ray,
-                        OnBounce&& bounce_ray, OnShadow&& shadow_ray) {
+                        OnBounce&& bounce_ray, OnShadow&& on_shadow) {
     auto u2 = [&] {
         const float a = rng.next_float();
         return vec2(a, rng.next_float());
@@ -63,18 +64,16 @@ inline void random_walk(const Scene& scene, const Accel& accel, const LightSet& 
             const float u_sel = rng.next_float();
             LightSample ls;
             if (lights.sample(p, u_sel, u2(), ls)) {
-                Ray s;
-                s.o = offset_ray_origin(p, glm::dot(ls.wi, n) > 0.f ? n : -n, e);
-                s.d = offset_ray_origin(ls.p, glm::dot(ls.wi, ls.n) < 0.f ? ls.n : -ls.n, ls.p_error) - s.o;
-                s.tmax = 1.f - 1e-4f;
-                shadow_ray(s, ls.le * (std::fabs(glm::dot(ls.wi, n)) / ls.pdf));
+                const Ray s = pv::shadow_ray(offset_ray_origin(p, glm::dot(ls.wi, n) > 0.f ? n : -n, e), ls);
+                on_shadow(s, ls.le * (std::fabs(glm::dot(ls.wi, n)) / ls.pdf));
             }
         } else if (!env.is_black()) {
             if (auto es = env.sample(u2())) {
-                Ray s;
-                s.o = offset_ray_origin(p, glm::dot(es->wi, n) > 0.f ? n : -n, e);
-                s.d = es->wi;
-                shadow_ray(s, es->le * (std::fabs(glm::dot(es->wi, n)) / es->pdf));
+                LightSample ls;
+                ls.wi = es->wi;
+                ls.dist = std::numeric_limits<float>::infinity();
+                const Ray s = pv::shadow_ray(offset_ray_origin(p, glm::dot(es->wi, n) > 0.f ? n : -n, e), ls);
+                on_shadow(s, es->le * (std::fabs(glm::dot(es->wi, n)) / es->pdf));
             }
         }
         if (depth == walk_depth) break;
