@@ -2,12 +2,11 @@
 #include "app/bench.h"
 
 #include "core/error.h"
+#include "core/file_io.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 
 namespace pv::app {
@@ -28,18 +27,9 @@ std::vector<std::string> split(const std::string& s, char sep) {
     return out;
 }
 
-// Writes `text` to a temporary file next to `path`, then renames it (a crash never leaves half a file).
+// Writes `text` whole (core/file_io.h: a temporary file, checked writes, fsync, rename).
 void write_file(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        if (!out) throw Error(path + ": cannot open for writing");
-        out << text;
-        if (!out) throw Error(path + ": write failed");
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) throw Error(path + ": cannot rename " + tmp + ": " + ec.message());
+    write_file_atomically(path, [&](int fd) { write_all(fd, text.data(), text.size(), path); });
 }
 
 std::string fmt(const char* f, double v) {

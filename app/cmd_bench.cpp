@@ -10,6 +10,7 @@
 #include "core/denoise_atrous.h"
 #include "core/denoise_nfor.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "core/image_io.h"
 #include "app/bench/raybench.h"
 #include "core/renderer.h"
@@ -379,6 +380,8 @@ void rays_section(const BenchOptions& o, std::shared_ptr<const Scene> scene, con
 
 void run(BenchOptions& o) {
     resolve_switches(o.common);
+    for (const std::string* out : {&o.csv, &o.svg})
+        if (!out->empty()) check_writable(*out);  // before the minutes of measuring, not after them
     o.reference_sampler = *parse_sampler(o.reference_sampler_name);
     Progress progress(!o.quiet);
     std::shared_ptr<Scene> scene = load_bench_scene(o.common);

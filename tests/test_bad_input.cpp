@@ -241,6 +241,21 @@ TEST(BadInputCli, UnwritableOutputExitsNonZeroWithOneLine) {
 // render, view and bench set a scene up through one function (issue 10, item 6): bench applies --environment and
 // --sun as render does. A scene without emitters gets the default sky; --environment 0 makes it black everywhere,
 // --sun then lights it. Before, bench ignored both (its reference was lit by the default sky).
+// An unwritable --csv is found before measuring: nothing is rendered (not even the reference), one line names it.
+TEST(BadInputCli, BenchChecksItsOutputsBeforeMeasuring) {
+    const fs::path ref = fs::temp_directory_path() / ("pathview_cli_ref0_" + std::to_string(::getpid()) + ".exr");
+    std::error_code ec;
+    fs::remove(ref, ec);
+    const RunResult r = run_pathview("bench --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind --seeds 1 "
+                                     "--budget 0.001 --max-spp 1 -q --csv /nonexistent-pathview-dir/b.csv --svg '' "
+                                     "--save-reference '" + ref.string() + "'");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find("/nonexistent-pathview-dir/b.csv"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(ref)) << "the reference was rendered before the output was checked";
+    fs::remove(ref, ec);
+}
+
 TEST(BadInputCli, BenchAppliesTheEnvironmentAndSunOverrides) {
     const fs::path ref = fs::temp_directory_path() / ("pathview_cli_ref_" + std::to_string(::getpid()) + ".exr");
     const std::string bench = "bench '" + data("crlf.obj") + "' --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind "
