@@ -11,14 +11,14 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 PACKAGES := build-essential cmake pkg-config ccache libglfw3-dev libimgui-dev libstb-dev libgl-dev \
   libembree-dev libtbb-dev libglm-dev libtinyobjloader-dev libopenexr-dev libgtest-dev libbenchmark-dev \
   libcli11-dev nlohmann-json3-dev openexr xvfb xauth libgl1-mesa-dri xdotool imagemagick x11-apps \
-  clang libclang-rt-14-dev libeigen3-dev
+  clang libclang-rt-14-dev clang-format libeigen3-dev
 
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DPATHVIEW_WERROR=ON
 # ccache: paths below the project are hashed relative to it, so a fresh clone (CI) reuses earlier compilations.
 export CCACHE_BASEDIR := $(CURDIR)
 export CCACHE_NOHASHDIR := 1
 
-.PHONY: deps build run test test-slurm test-release test-sanitize build-asan-fuzz test-asan test-tsan test-fuzz bench clean
+.PHONY: deps build run test format-check format test-slurm test-release test-sanitize build-asan-fuzz test-asan test-tsan test-fuzz bench clean
 
 deps:
 	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
@@ -43,7 +43,14 @@ run: build
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-test: test-release test-sanitize test-fuzz test-slurm
+test: format-check test-release test-sanitize test-fuzz test-slurm
+
+# Every C++ file as the root .clang-format (Google-based, 4 spaces, 120 columns) formats it; `make format` applies it.
+format-check: deps
+	@git ls-files '*.cpp' '*.h' | xargs clang-format --dry-run --Werror && echo "make format-check: every C++ file is formatted"
+
+format: deps
+	git ls-files '*.cpp' '*.h' | xargs clang-format -i
 
 # A one-node Slurm 22.05 cluster on this machine (munged, slurmctld, slurmd as root, everything in a temporary
 # folder): deploy/slurm's 4-task array job renders the shards of a small render, the dependent job merges them, and

@@ -2,11 +2,11 @@
 // SVG). Times are seconds of rendering (whole passes), errors are against the run's reference (core/metrics.h).
 #pragma once
 
-#include "core/integrator.h"
-#include "core/metrics.h"
-
 #include <string>
 #include <vector>
+
+#include "core/integrator.h"
+#include "core/metrics.h"
 
 namespace pv::app {
 
@@ -42,7 +42,9 @@ struct BenchPoint {
     double rays_per_sample = 0.0;   // closest-hit + shadow rays per path
     bool denoised = false;          // the four spreads below are measured (bench --denoise)
     Spread rel_mse_atrous, atrous_seconds, rel_mse_nfor, nfor_seconds;
-    double efficiency() const { return rel_mse.mean > 0 && seconds.mean > 0 ? 1.0 / (rel_mse.mean * seconds.mean) : 0.0; }
+    double efficiency() const {
+        return rel_mse.mean > 0 && seconds.mean > 0 ? 1.0 / (rel_mse.mean * seconds.mean) : 0.0;
+    }
 };
 
 struct BenchSeries {

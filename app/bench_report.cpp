@@ -1,13 +1,12 @@
 // app/bench_report.cpp: configuration names and the table, CSV and SVG writers of `pathview bench`.
-#include "app/bench.h"
-
-#include "core/error.h"
-#include "core/file_io.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+
+#include "app/bench.h"
+#include "core/error.h"
+#include "core/file_io.h"
 
 namespace pv::app {
 namespace {
@@ -50,7 +49,8 @@ std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSett
         if (item == "all") item = "*/*/*";
         const std::vector<std::string> f = split(item, '/');
         auto bad = [&] {
-            return Error("--configs " + item + ": expected estimator/rr/sampler with estimator bsdf|nee|mis, "
+            return Error("--configs " + item +
+                         ": expected estimator/rr/sampler with estimator bsdf|nee|mis, "
                          "rr rr|norr, sampler ind|sobol (each may be *), e.g. mis/rr/sobol, or all");
         };
         if (f.size() != 3) throw bad();
@@ -68,7 +68,8 @@ std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSett
                     c.settings.mis = std::string(e) == "mis";
                     c.settings.russian_roulette = std::string(r) == "rr";
                     c.settings.sampler = std::string(s) == "sobol" ? SamplerKind::Sobol : SamplerKind::Independent;
-                    const bool dup = std::any_of(out.begin(), out.end(), [&](const BenchConfig& o) { return o.name == c.name; });
+                    const bool dup =
+                        std::any_of(out.begin(), out.end(), [&](const BenchConfig& o) { return o.name == c.name; });
                     if (!dup) out.push_back(c);
                 }
         if (!matched) throw bad();
@@ -78,20 +79,22 @@ std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSett
 }
 
 void print_points_table(const std::vector<BenchSeries>& series) {
-    std::printf("| config | spp | seconds | relMSE (mean) | relMSE min..max over seeds | trimmed relMSE | RMSE | MAPE | "
-                "Mrays/s | path length | rays/sample | efficiency 1/(relMSE s) |\n");
+    std::printf(
+        "| config | spp | seconds | relMSE (mean) | relMSE min..max over seeds | trimmed relMSE | RMSE | MAPE | "
+        "Mrays/s | path length | rays/sample | efficiency 1/(relMSE s) |\n");
     std::printf("|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const BenchSeries& s : series)
         for (const BenchPoint& p : s.points)
             std::printf("| %s | %u | %.3f | %.4g | %.3g..%.3g | %.4g | %.4g | %.4g | %.2f | %.2f | %.2f | %.4g |\n",
                         s.config.name.c_str(), p.spp, p.seconds.mean, p.rel_mse.mean, p.rel_mse.min, p.rel_mse.max,
-                        p.rel_mse_trimmed.mean, p.rmse.mean, p.mape.mean, p.mrays_per_s, p.mean_path_length, p.rays_per_sample,
-                        p.efficiency());
+                        p.rel_mse_trimmed.mean, p.rmse.mean, p.mape.mean, p.mrays_per_s, p.mean_path_length,
+                        p.rays_per_sample, p.efficiency());
 }
 
 void print_denoise_table(const std::vector<BenchSeries>& series) {
-    std::printf("| config | spp | noisy relMSE | a-trous relMSE | a-trous ms | NFOR relMSE | NFOR s |\n"
-                "|---|---:|---:|---:|---:|---:|---:|\n");
+    std::printf(
+        "| config | spp | noisy relMSE | a-trous relMSE | a-trous ms | NFOR relMSE | NFOR s |\n"
+        "|---|---:|---:|---:|---:|---:|---:|\n");
     for (const BenchSeries& s : series)
         for (const BenchPoint& p : s.points)
             if (p.denoised)
@@ -113,10 +116,9 @@ void write_csv(const std::string& path, const std::string& scene, const std::vec
               << fmt("%.6g", p.seconds.mean) << ',' << fmt("%.3g", p.seconds.stddev) << ','
               << fmt("%.6g", p.rel_mse.mean) << ',' << fmt("%.4g", p.rel_mse.stddev) << ','
               << fmt("%.6g", p.rel_mse.min) << ',' << fmt("%.6g", p.rel_mse.max) << ','
-              << fmt("%.6g", p.rel_mse_trimmed.mean) << ',' << fmt("%.6g", p.rmse.mean)
-              << ',' << fmt("%.6g", p.mape.mean) << ',' << fmt("%.4g", p.mrays_per_s) << ','
-              << fmt("%.4g", p.mean_path_length) << ',' << fmt("%.4g", p.rays_per_sample) << ','
-              << fmt("%.6g", p.efficiency());
+              << fmt("%.6g", p.rel_mse_trimmed.mean) << ',' << fmt("%.6g", p.rmse.mean) << ','
+              << fmt("%.6g", p.mape.mean) << ',' << fmt("%.4g", p.mrays_per_s) << ',' << fmt("%.4g", p.mean_path_length)
+              << ',' << fmt("%.4g", p.rays_per_sample) << ',' << fmt("%.6g", p.efficiency());
             // Denoised columns: empty unless bench --denoise measured them.
             if (p.denoised)
                 o << ',' << fmt("%.6g", p.rel_mse_atrous.mean) << ',' << fmt("%.4g", p.atrous_seconds.mean) << ','
@@ -132,7 +134,7 @@ namespace {
 
 // A log-log panel: maps data to pixels and draws decade grid lines and labels.
 struct Panel {
-    double x0, y0, w, h;               // pixel rectangle
+    double x0, y0, w, h;                    // pixel rectangle
     double lx_min, lx_max, ly_min, ly_max;  // log10 data range
     double px(double x) const { return x0 + (std::log10(x) - lx_min) / (lx_max - lx_min) * w; }
     double py(double y) const { return y0 + h - (std::log10(y) - ly_min) / (ly_max - ly_min) * h; }
@@ -152,8 +154,8 @@ void draw_axes(std::ostringstream& o, const Panel& p, const char* xlabel, const 
         if (d < p.ly_min - 1e-9 || d > p.ly_max + 1e-9) continue;
         const double y = p.py(std::pow(10.0, d));
         o << "<line x1='" << p.x0 << "' y1='" << y << "' x2='" << p.x0 + p.w << "' y2='" << y
-          << "' stroke='#ddd'/>\n<text x='" << p.x0 - 6 << "' y='" << y + 4
-          << "' font-size='11' text-anchor='end'>1e" << d << "</text>\n";
+          << "' stroke='#ddd'/>\n<text x='" << p.x0 - 6 << "' y='" << y + 4 << "' font-size='11' text-anchor='end'>1e"
+          << d << "</text>\n";
     }
     o << "<text x='" << p.x0 + p.w / 2 << "' y='" << p.y0 + p.h + 34 << "' font-size='12' text-anchor='middle'>"
       << xlabel << "</text>\n<text x='" << p.x0 + p.w / 2 << "' y='" << p.y0 - 8
@@ -180,8 +182,14 @@ void write_svg(const std::string& path, const std::string& title, const std::vec
         }
     if (t_hi == 0) t_lo = 1e-3, t_hi = 1, s_lo = 1, s_hi = 2, e_lo = 1e-3, e_hi = 1;
     const double W = 1180, H = 520;
-    Panel left{70, 50, 420, 380, std::floor(std::log10(t_lo)), std::ceil(std::log10(t_hi)),
-               std::floor(std::log10(e_lo)), std::ceil(std::log10(e_hi))};
+    Panel left{70,
+               50,
+               420,
+               380,
+               std::floor(std::log10(t_lo)),
+               std::ceil(std::log10(t_hi)),
+               std::floor(std::log10(e_lo)),
+               std::ceil(std::log10(e_hi))};
     Panel right = left;
     right.x0 = 560;
     right.lx_min = std::floor(std::log10(s_lo));
@@ -199,11 +207,12 @@ void write_svg(const std::string& path, const std::string& title, const std::vec
     // Slope -1 guides through the middle of each panel's data, clipped to the panel.
     for (const Panel* p : {&left, &right}) {
         const double lx_mid = 0.5 * (p->lx_min + p->lx_max), ly_mid = 0.5 * (p->ly_min + p->ly_max);
-        const double a = std::max(p->lx_min, lx_mid - (p->ly_max - ly_mid)), b = std::min(p->lx_max, lx_mid + (ly_mid - p->ly_min));
+        const double a = std::max(p->lx_min, lx_mid - (p->ly_max - ly_mid)),
+                     b = std::min(p->lx_max, lx_mid + (ly_mid - p->ly_min));
         o << "<line x1='" << p->px(std::pow(10, a)) << "' y1='" << p->py(std::pow(10, ly_mid - (a - lx_mid)))
           << "' x2='" << p->px(std::pow(10, b)) << "' y2='" << p->py(std::pow(10, ly_mid - (b - lx_mid)))
-          << "' stroke='#888' stroke-width='1.5' stroke-dasharray='2,4'/>\n<text x='"
-          << p->px(std::pow(10, b)) - 4 << "' y='" << p->py(std::pow(10, ly_mid - (b - lx_mid))) - 6
+          << "' stroke='#888' stroke-width='1.5' stroke-dasharray='2,4'/>\n<text x='" << p->px(std::pow(10, b)) - 4
+          << "' y='" << p->py(std::pow(10, ly_mid - (b - lx_mid))) - 6
           << "' font-size='11' fill='#666' text-anchor='end'>slope -1</text>\n";
     }
     for (const BenchSeries& s : series) {
@@ -216,8 +225,8 @@ void write_svg(const std::string& path, const std::string& title, const std::vec
                 if (!(pt.rel_mse.mean > 0) || !(pt.seconds.mean > 0)) continue;
                 const double x = p.px(panel == 0 ? pt.seconds.mean : double(pt.spp));
                 line << x << ',' << p.py(pt.rel_mse.mean) << ' ';
-                o << "<line x1='" << x << "' y1='" << p.py(std::max(pt.rel_mse.min, 1e-12)) << "' x2='" << x
-                  << "' y2='" << p.py(pt.rel_mse.max) << "' stroke='" << c << "' stroke-width='1' opacity='0.6'/>\n";
+                o << "<line x1='" << x << "' y1='" << p.py(std::max(pt.rel_mse.min, 1e-12)) << "' x2='" << x << "' y2='"
+                  << p.py(pt.rel_mse.max) << "' stroke='" << c << "' stroke-width='1' opacity='0.6'/>\n";
             }
             o << "<polyline fill='none' stroke='" << c << "' stroke-width='2'"
               << (sobol ? "" : " stroke-dasharray='6,4'") << " points='" << line.str() << "'/>\n";

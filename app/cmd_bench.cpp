@@ -3,20 +3,6 @@
 // each power-of-two spp, and reports a table, equal-time comparison, log-log slopes, CSV and SVG. With --rays it
 // also measures Embree's raw ray rate on the same scene and ray mix (app/bench/raybench.h) and the path tracer's
 // fraction of it. Benchmarks report figures; they never fail on time.
-#include "app/bench.h"
-#include "app/commands.h"
-
-#include "core/aov.h"
-#include "core/denoise_atrous.h"
-#include "core/denoise_nfor.h"
-#include "core/error.h"
-#include "core/file_io.h"
-#include "core/image_io.h"
-#include "app/bench/raybench.h"
-#include "core/renderer.h"
-#include "core/scene_file.h"
-#include "app/bench/scene_gen.h"
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -24,17 +10,30 @@
 #include <cstdio>
 #include <memory>
 
+#include "app/bench.h"
+#include "app/bench/raybench.h"
+#include "app/bench/scene_gen.h"
+#include "app/commands.h"
+#include "core/aov.h"
+#include "core/denoise_atrous.h"
+#include "core/denoise_nfor.h"
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/image_io.h"
+#include "core/renderer.h"
+#include "core/scene_file.h"
+
 namespace pv::app {
 namespace {
 
 struct BenchOptions {
     CommonOptions common;
-    std::string reference;        // EXR to load
+    std::string reference;  // EXR to load
     uint32_t reference_spp = 4096;
     SamplerKind reference_sampler = SamplerKind::Independent;
     std::string reference_sampler_name = "independent";
     std::string save_reference;
-    double budget = 0.5;          // seconds of rendering per (configuration, seed)
+    double budget = 0.5;  // seconds of rendering per (configuration, seed)
     std::string configs = "all";
     int seeds = 4;
     uint32_t max_spp = 1u << 16;
@@ -43,9 +42,9 @@ struct BenchOptions {
     bool rays = false, rays_only = false, scaling = false;
     double rays_seconds = 2.0;
     int rays_rounds = 3;
-    std::string clock = "cpu";    // process CPU seconds / threads, or "wall"
+    std::string clock = "cpu";  // process CPU seconds / threads, or "wall"
     bool quiet = false;
-    bool denoise = false;         // denoised columns: a-trous and NFOR at every point
+    bool denoise = false;  // denoised columns: a-trous and NFOR at every point
 };
 
 // One render pass; returns its duration by the chosen clock (wall, or process CPU time / threads).
@@ -101,7 +100,8 @@ Reference make_reference(const BenchOptions& o, Renderer& renderer, const Camera
             throw Error(o.reference + ": the reference is " + std::to_string(ref.image.width) + "x" +
                         std::to_string(ref.image.height) + "; expected " + std::to_string(o.common.width) + "x" +
                         std::to_string(o.common.height) + " (--width/--height)");
-        if (auto it = md.find("pathview:expected_rel_mse"); it != md.end()) ref.expected_rel_mse = std::stod(it->second);
+        if (auto it = md.find("pathview:expected_rel_mse"); it != md.end())
+            ref.expected_rel_mse = std::stod(it->second);
         ref.origin = o.reference + (md.count("pathview:spp") ? " (" + md["pathview:spp"] + " spp)" : "");
         return ref;
     }
@@ -275,16 +275,18 @@ void print_summary(const std::vector<BenchSeries>& all, const Reference& ref) {
     const double base_err = at_t(*baseline, false), base_trim = at_t(*baseline, true);
     std::printf("\n### Equal time: relMSE at %.3f s (interpolated log-log between power-of-two spp points)\n\n",
                 t_common);
-    std::printf("| config | relMSE at %.3g s | relative to %s | trimmed relMSE (top 0.1%% dropped) | relative | spp "
-                "reached in budget | seconds | slope vs spp | slope vs time | Mrays/s | rays/sample | path length |\n",
-                t_common, baseline->config.name.c_str());
+    std::printf(
+        "| config | relMSE at %.3g s | relative to %s | trimmed relMSE (top 0.1%% dropped) | relative | spp "
+        "reached in budget | seconds | slope vs spp | slope vs time | Mrays/s | rays/sample | path length |\n",
+        t_common, baseline->config.name.c_str());
     std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     for (const BenchSeries& s : all) {
         const BenchPoint& last = s.points.back();
         const double e = at_t(s, false), et = at_t(s, true);
         std::printf("| %s | %.4g | %.3f | %.4g | %.3f | %u | %.3f | %.2f | %.2f | %.2f | %.2f | %.2f |\n",
-                    s.config.name.c_str(), e, e / base_err, et, et / base_trim, last.spp, last.seconds.mean, s.slope_spp.slope, s.slope_time.slope,
-                    last.mrays_per_s, last.rays_per_sample, last.mean_path_length);
+                    s.config.name.c_str(), e, e / base_err, et, et / base_trim, last.spp, last.seconds.mean,
+                    s.slope_spp.slope, s.slope_time.slope, last.mrays_per_s, last.rays_per_sample,
+                    last.mean_path_length);
     }
     // The reference check: its own error must be far below the smallest error measured against it.
     double smallest = 1e300;
@@ -292,8 +294,9 @@ void print_summary(const std::vector<BenchSeries>& all, const Reference& ref) {
         for (const BenchPoint& p : s.points) smallest = std::min(smallest, p.rel_mse.mean);
     std::printf("\nReference: %s\n", ref.origin.c_str());
     if (ref.expected_rel_mse < 0) {
-        std::printf("WARNING: the reference's own error is unknown (no pathview:expected_rel_mse in the EXR); "
-                    "errors below its noise cannot be trusted.\n");
+        std::printf(
+            "WARNING: the reference's own error is unknown (no pathview:expected_rel_mse in the EXR); "
+            "errors below its noise cannot be trusted.\n");
     } else {
         const double ratio = ref.expected_rel_mse / smallest;
         std::printf("Reference's estimated relMSE %.3g = %.1f%% of the smallest measured relMSE %.3g: %s\n",
@@ -306,7 +309,8 @@ void print_summary(const std::vector<BenchSeries>& all, const Reference& ref) {
 
 // ---- Ray-rate ceiling
 
-void rays_section(const BenchOptions& o, std::shared_ptr<const Scene> scene, const CameraDesc& camera, Progress& progress) {
+void rays_section(const BenchOptions& o, std::shared_ptr<const Scene> scene, const CameraDesc& camera,
+                  Progress& progress) {
     std::vector<int> thread_counts;
     Renderer probe(scene, o.common.threads);
     const int n = probe.threads();
@@ -317,9 +321,10 @@ void rays_section(const BenchOptions& o, std::shared_ptr<const Scene> scene, con
                 o.common.height, settings.describe().c_str(), o.clock.c_str());
     std::printf("BVH: %zu triangles, build %.3f s, %.2f MiB (Embree memory monitor)\n\n", scene->triangle_count(),
                 probe.accel().stats().build_seconds, double(probe.accel().stats().bytes) / (1024.0 * 1024.0));
-    std::printf("| threads | round | path tracer Mrays/s | Embree camera | Embree bounce | Embree shadow | Embree on the "
-                "path tracer's mix | fraction of ceiling | minimal kernel Mrays/s | its fraction |\n"
-                "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    std::printf(
+        "| threads | round | path tracer Mrays/s | Embree camera | Embree bounce | Embree shadow | Embree on the "
+        "path tracer's mix | fraction of ceiling | minimal kernel Mrays/s | its fraction |\n"
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     std::vector<std::pair<int, double>> medians, minimal_medians;
     for (int threads : thread_counts) {
         Renderer r(scene, threads);
@@ -371,11 +376,13 @@ void rays_section(const BenchOptions& o, std::shared_ptr<const Scene> scene, con
     }
     std::printf("\n");
     for (size_t i = 0; i < medians.size(); ++i)
-        std::printf("Path tracer at %d thread%s: median %.3f of Embree's raw rate on the same ray mix (minimal kernel: "
-                    "%.3f of the rate on its own mix).\n",
-                    medians[i].first, medians[i].first == 1 ? "" : "s", medians[i].second, minimal_medians[i].second);
-    std::printf("The minimal kernel (white Lambertian, one shadow ray per vertex, PCG numbers, no MIS, roulette, "
-                "materials, Sobol or film) bounds what per-ray shading code reaches on this scene.\n");
+        std::printf(
+            "Path tracer at %d thread%s: median %.3f of Embree's raw rate on the same ray mix (minimal kernel: "
+            "%.3f of the rate on its own mix).\n",
+            medians[i].first, medians[i].first == 1 ? "" : "s", medians[i].second, minimal_medians[i].second);
+    std::printf(
+        "The minimal kernel (white Lambertian, one shadow ray per vertex, PCG numbers, no MIS, roulette, "
+        "materials, Sobol or film) bounds what per-ray shading code reaches on this scene.\n");
 }
 
 void run(BenchOptions& o) {
@@ -391,25 +398,26 @@ void run(BenchOptions& o) {
     if (!o.rays_only) {
         const std::vector<BenchConfig> configs = parse_configs(o.configs, o.common.settings);
         Renderer renderer(scene, o.common.threads);
-        std::printf("## pathview bench: %s\n\n%dx%d, %d threads, budget %.3g s (%s clock) per configuration and seed, "
-                    "%d seeds, max_depth %d, %zu triangles (BVH build %.3f s, %.2f MiB)\n",
-                    scene_name.c_str(), o.common.width, o.common.height, renderer.threads(), o.budget, o.clock.c_str(),
-                    o.seeds,
-                    o.common.settings.max_depth, scene->triangle_count(), renderer.accel().stats().build_seconds,
-                    double(renderer.accel().stats().bytes) / (1024.0 * 1024.0));
+        std::printf(
+            "## pathview bench: %s\n\n%dx%d, %d threads, budget %.3g s (%s clock) per configuration and seed, "
+            "%d seeds, max_depth %d, %zu triangles (BVH build %.3f s, %.2f MiB)\n",
+            scene_name.c_str(), o.common.width, o.common.height, renderer.threads(), o.budget, o.clock.c_str(), o.seeds,
+            o.common.settings.max_depth, scene->triangle_count(), renderer.accel().stats().build_seconds,
+            double(renderer.accel().stats().bytes) / (1024.0 * 1024.0));
         std::fflush(stdout);
         const Reference ref = make_reference(o, renderer, camera, progress);
         renderer.set_adaptive(o.common.adaptive);  // the measured renders only, not the reference
         std::vector<BenchSeries> all;
         for (size_t i = 0; i < configs.size(); ++i)
-            all.push_back(run_series(o, configs[i], renderer, camera, ref.image, progress,
-                                     double(i) / configs.size(), 1.0 / configs.size()));
+            all.push_back(run_series(o, configs[i], renderer, camera, ref.image, progress, double(i) / configs.size(),
+                                     1.0 / configs.size()));
         progress.done();
         std::printf("\n### Every point (mean over %d seeds; relMSE eps 0.01, no trimming)\n\n", o.seeds);
         print_points_table(all);
         if (o.denoise) {
-            std::printf("\n### Denoised (relMSE of the denoised image against the reference; the noisy column is "
-                        "the estimator's own; filter times are wall seconds, not part of the render time)\n\n");
+            std::printf(
+                "\n### Denoised (relMSE of the denoised image against the reference; the noisy column is "
+                "the estimator's own; filter times are wall seconds, not part of the render time)\n\n");
             print_denoise_table(all);
         }
         print_summary(all, ref);
@@ -420,8 +428,8 @@ void run(BenchOptions& o) {
                           renderer.threads(), o.seeds);
             // "assets/mis-plates/scene.json" is better named by its folder.
             std::filesystem::path sp(scene_name);
-            const std::string name = sp.filename() == "scene.json" ? sp.parent_path().filename().string()
-                                                                    : sp.filename().string();
+            const std::string name =
+                sp.filename() == "scene.json" ? sp.parent_path().filename().string() : sp.filename().string();
             write_svg(o.svg, (o.title.empty() ? name : o.title) + sub, all);
         }
         if (!o.csv.empty() || !o.svg.empty())
@@ -440,10 +448,12 @@ void add_bench_command(CLI::App& app) {
     auto o = std::make_shared<BenchOptions>();
     o->common.width = o->common.height = 128;
     CLI::App* cmd = app.add_subcommand(
-        "bench", "Speed against error: a reference, then per configuration and seed a doubling spp series within a "
-                 "time budget; table, equal-time comparison, slopes, CSV and SVG. Default: the built-in Cornell box "
-                 "at 128x128, 12 configurations x 4 seeds x 0.5 s, a 4096 spp reference (about a minute on 2 cores). SCENE may also be large-mesh (generated: the "
-                 "Cornell box with a 1M-triangle displaced sphere)");
+        "bench",
+        "Speed against error: a reference, then per configuration and seed a doubling spp series within a "
+        "time budget; table, equal-time comparison, slopes, CSV and SVG. Default: the built-in Cornell box "
+        "at 128x128, 12 configurations x 4 seeds x 0.5 s, a 4096 spp reference (about a minute on 2 cores). SCENE may "
+        "also be large-mesh (generated: the "
+        "Cornell box with a 1M-triangle displaced sphere)");
     add_common_options(*cmd, o->common);
     auto* ref = cmd->add_option("--reference", o->reference, "Reference EXR (same size) instead of rendering one");
     cmd->add_option("--reference-spp", o->reference_spp, "Samples per pixel of the rendered reference")
@@ -453,8 +463,9 @@ void add_bench_command(CLI::App& app) {
     cmd->add_option("--reference-sampler", o->reference_sampler_name, "Sampler of the rendered reference")
         ->check(CLI::IsMember({"independent", "sobol"}))
         ->capture_default_str();
-    cmd->add_option("--save-reference", o->save_reference, "Write the rendered reference to this EXR (with its "
-                                                            "estimated error in the metadata)");
+    cmd->add_option("--save-reference", o->save_reference,
+                    "Write the rendered reference to this EXR (with its "
+                    "estimated error in the metadata)");
     cmd->add_option("--budget", o->budget, "Seconds of rendering per configuration and seed")
         ->check(CLI::Range(1e-3, 1e6))
         ->capture_default_str();
@@ -463,28 +474,34 @@ void add_bench_command(CLI::App& app) {
                     "each may be *; or all")
         ->capture_default_str();
     cmd->add_option("--seeds", o->seeds, "Seeds per configuration")->check(CLI::Range(1, 1000))->capture_default_str();
-    cmd->add_option("--max-spp", o->max_spp, "Stop a series at this spp")->check(CLI::Range(1u, 1u << 30))->capture_default_str();
+    cmd->add_option("--max-spp", o->max_spp, "Stop a series at this spp")
+        ->check(CLI::Range(1u, 1u << 30))
+        ->capture_default_str();
     cmd->add_option("--csv", o->csv, "CSV output (empty: none)")->capture_default_str();
     cmd->add_option("--svg", o->svg, "SVG plot output (empty: none)")->capture_default_str();
     cmd->add_option("--title", o->title, "Title of the plot (default: the scene file name)");
-    cmd->add_flag("--rays", o->rays, "Also measure Embree's raw ray rate on the same scene and ray mix, and the path "
-                                     "tracer's fraction of it (uses --light-sampling/--mis/--rr/--sampler)");
+    cmd->add_flag("--rays", o->rays,
+                  "Also measure Embree's raw ray rate on the same scene and ray mix, and the path "
+                  "tracer's fraction of it (uses --light-sampling/--mis/--rr/--sampler)");
     cmd->add_flag("--rays-only", o->rays_only, "Only the ray-rate section");
     cmd->add_flag("--scaling", o->scaling, "Ray-rate section at 1 thread as well as --threads");
     cmd->add_option("--rays-seconds", o->rays_seconds, "Seconds of path tracing per round of the ray-rate section")
         ->check(CLI::Range(0.01, 1e6))
         ->capture_default_str();
-    cmd->add_option("--rays-rounds", o->rays_rounds, "Rounds of the ray-rate section (path tracer and Embree "
-                                                     "alternate; the median fraction is reported)")
+    cmd->add_option("--rays-rounds", o->rays_rounds,
+                    "Rounds of the ray-rate section (path tracer and Embree "
+                    "alternate; the median fraction is reported)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
-    cmd->add_option("--clock", o->clock, "cpu: time is process CPU seconds / threads (equals the wall clock on an idle "
-                                         "machine; other processes sharing the cores do not inflate it); wall: the "
-                                         "wall clock")
+    cmd->add_option("--clock", o->clock,
+                    "cpu: time is process CPU seconds / threads (equals the wall clock on an idle "
+                    "machine; other processes sharing the cores do not inflate it); wall: the "
+                    "wall clock")
         ->check(CLI::IsMember({"wall", "cpu"}))
         ->capture_default_str();
     cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
-    cmd->add_flag("--denoise", o->denoise, "At every point also denoise (a-trous and NFOR, with first-hit features) "
+    cmd->add_flag("--denoise", o->denoise,
+                  "At every point also denoise (a-trous and NFOR, with first-hit features) "
                   "and report the denoised relMSE and the filter times in their own table and the CSV (slow: use "
                   "with one --configs entry)");
     cmd->callback([o] { run(*o); });

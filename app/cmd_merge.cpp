@@ -1,15 +1,14 @@
 // app/cmd_merge.cpp: `pathview merge OUT PART...`: adds partial renders of one image (core/partial.h) and writes
 // the result: an .exr is itself a partial render (mergeable and resumable; its R, G, B are the image), a .png the
 // tone-mapped mean. Every part is read and checked before anything is written.
-#include "app/commands.h"
-
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/partial.h"
-
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+
+#include "app/commands.h"
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/partial.h"
 
 namespace pv::app {
 namespace {
@@ -60,11 +59,13 @@ void run(const MergeOptions& o) {
 void add_merge_command(CLI::App& app) {
     auto o = std::make_shared<MergeOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "merge", "Merge partial renders of one image (pathview render --samples START:COUNT) into OUT: .exr (itself a "
-                 "partial render: mergeable, resumable, R G B = the image) or .png");
+        "merge",
+        "Merge partial renders of one image (pathview render --samples START:COUNT) into OUT: .exr (itself a "
+        "partial render: mergeable, resumable, R G B = the image) or .png");
     cmd->add_option("out", o->out, "Output file: .exr or .png")->required();
-    cmd->add_option("parts", o->parts, "Partial renders (.exr) of the same scene, settings, camera and size, with "
-                                       "disjoint sample ranges")
+    cmd->add_option("parts", o->parts,
+                    "Partial renders (.exr) of the same scene, settings, camera and size, with "
+                    "disjoint sample ranges")
         ->required()
         ->expected(1, -1);
     cmd->add_option("-o,--output", o->more_outs, "A further output file (.exr or .png)")->take_all();

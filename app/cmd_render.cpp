@@ -1,16 +1,4 @@
 // app/cmd_render.cpp: `pathview render`: headless rendering to EXR or PNG, with a progress bar and a summary.
-#include "app/commands.h"
-
-#include "core/aov.h"
-#include "core/denoise_atrous.h"
-#include "core/denoise_nfor.h"
-#include "core/error.h"
-#include "core/file_io.h"
-#include "core/image_io.h"
-#include "core/partial.h"
-#include "core/renderer.h"
-#include "core/scene_file.h"
-
 #include <unistd.h>
 
 #include <chrono>
@@ -21,6 +9,17 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+
+#include "app/commands.h"
+#include "core/aov.h"
+#include "core/denoise_atrous.h"
+#include "core/denoise_nfor.h"
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/image_io.h"
+#include "core/partial.h"
+#include "core/renderer.h"
+#include "core/scene_file.h"
 
 namespace pv::app {
 namespace {
@@ -36,16 +35,33 @@ struct RenderOptions {
     std::string resume;   // --resume PART.exr: continue a partial render
     std::string shard;    // --shard I/N: shard I of N of --spp's sample indices
     const CLI::App* cmd = nullptr;
-    bool aovs = false;     // feature and film-statistics layers in the EXR (core/aov.h)
-    bool denoise = false;  // NFOR (core/denoise_nfor.h); the raw mean is kept as the noisy.* layer
+    bool aovs = false;              // feature and film-statistics layers in the EXR (core/aov.h)
+    bool denoise = false;           // NFOR (core/denoise_nfor.h); the raw mean is kept as the noisy.* layer
     std::string denoiser = "nfor";  // or "atrous", the viewer's interactive filter (core/denoise_atrous.h)
 };
 
 // Options that --resume takes from the part instead (they define the image).
-const char* const kFromPart[] = {"--width", "--height", "--seed", "--max-depth", "--light-sampling", "--mis", "--rr",
-                                 "--sampler", "--eye", "--target", "--up", "--fov", "--aperture", "--focus-distance",
-                                 "--bookmark", "--environment", "--env-rotation", "--env-strength", "--sun",
-                                 "--sun-irradiance", "--sun-radius"};
+const char* const kFromPart[] = {"--width",
+                                 "--height",
+                                 "--seed",
+                                 "--max-depth",
+                                 "--light-sampling",
+                                 "--mis",
+                                 "--rr",
+                                 "--sampler",
+                                 "--eye",
+                                 "--target",
+                                 "--up",
+                                 "--fov",
+                                 "--aperture",
+                                 "--focus-distance",
+                                 "--bookmark",
+                                 "--environment",
+                                 "--env-rotation",
+                                 "--env-strength",
+                                 "--sun",
+                                 "--sun-irradiance",
+                                 "--sun-radius"};
 
 // The scene overrides given (--environment, --sun ...) as flags, recorded in partial renders so that --resume
 // applies them again (exact: %.9g).
@@ -133,7 +149,9 @@ void run(RenderOptions& o) {
 
     const bool tty = !o.quiet && isatty(STDERR_FILENO);
     const auto load_start = std::chrono::steady_clock::now();
-    auto since_load = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count(); };
+    auto since_load = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
+    };
     // Load on a worker thread; on a terminal, show the elapsed time meanwhile (the OBJ parser reports no fraction).
     auto loading = std::async(std::launch::async, [&path] { return load_scene(path); });
     if (tty)
@@ -173,7 +191,8 @@ void run(RenderOptions& o) {
     if (resumed) {
         const uint64_t hash = scene_hash(renderer.scene(), renderer.materials(), renderer.environment_settings());
         if (hash != resumed->id.scene_hash)
-            throw Error("--resume " + o.resume + ": the scene " + path + " (with the part's environment flags) is not "
+            throw Error("--resume " + o.resume + ": the scene " + path +
+                        " (with the part's environment flags) is not "
                         "the one the part was rendered from (scene hash differs)");
         renderer.load_film(resumed->film);
     }
@@ -269,30 +288,34 @@ void run(RenderOptions& o) {
     const RenderStats& st = renderer.stats();
     const double secs = std::max(st.seconds, 1e-9);
     if (renderer.settings().max_depth < RenderSettings{}.max_depth)
-        std::fprintf(stderr, "pathview: note: --max-depth %d truncates paths, so the image is biased (darker) "
-                     "compared with the unbounded default\n", renderer.settings().max_depth);
-    std::printf("pathview: %u spp in %.2f s, estimated relMSE %.3g (half buffers), %s paths/s, %s rays/s "
-                "(%s closest-hit + %s shadow), %.2f rays/path, %llu dropped samples, %d threads, %s -> %s\n",
-                st.spp, st.seconds, renderer.film().estimated_rel_mse(), format_si(double(st.paths) / secs).c_str(),
-                format_si(double(st.rays + st.shadow_rays) / secs).c_str(), format_si(double(st.rays) / secs).c_str(),
-                format_si(double(st.shadow_rays) / secs).c_str(),
-                double(st.rays + st.shadow_rays) / double(std::max<uint64_t>(st.paths, 1)),
-                static_cast<unsigned long long>(st.dropped), renderer.threads(), renderer.settings().describe().c_str(),
-                written.c_str());
+        std::fprintf(stderr,
+                     "pathview: note: --max-depth %d truncates paths, so the image is biased (darker) "
+                     "compared with the unbounded default\n",
+                     renderer.settings().max_depth);
+    std::printf(
+        "pathview: %u spp in %.2f s, estimated relMSE %.3g (half buffers), %s paths/s, %s rays/s "
+        "(%s closest-hit + %s shadow), %.2f rays/path, %llu dropped samples, %d threads, %s -> %s\n",
+        st.spp, st.seconds, renderer.film().estimated_rel_mse(), format_si(double(st.paths) / secs).c_str(),
+        format_si(double(st.rays + st.shadow_rays) / secs).c_str(), format_si(double(st.rays) / secs).c_str(),
+        format_si(double(st.shadow_rays) / secs).c_str(),
+        double(st.rays + st.shadow_rays) / double(std::max<uint64_t>(st.paths, 1)),
+        static_cast<unsigned long long>(st.dropped), renderer.threads(), renderer.settings().describe().c_str(),
+        written.c_str());
     if (renderer.adaptive_settings().enabled())
-        std::printf("pathview: noise threshold %g: %.1f%% of pixels still active, %.1f samples per pixel on average%s\n",
-                    double(renderer.adaptive_settings().noise_threshold),
-                    100.0 * renderer.adaptive_mask().active_fraction(),
-                    double(st.paths) / double(std::max(1, o.common.width * o.common.height)),
-                    renderer.converged() ? " (every pixel converged)" : "");
+        std::printf(
+            "pathview: noise threshold %g: %.1f%% of pixels still active, %.1f samples per pixel on average%s\n",
+            double(renderer.adaptive_settings().noise_threshold), 100.0 * renderer.adaptive_mask().active_fraction(),
+            double(st.paths) / double(std::max(1, o.common.width * o.common.height)),
+            renderer.converged() ? " (every pixel converged)" : "");
 }
 
 }  // namespace
 
 void add_render_command(CLI::App& app) {
     auto o = std::make_shared<RenderOptions>();
-    CLI::App* cmd = app.add_subcommand("render", "Render a scene headless to an OpenEXR (linear FLOAT RGB + metadata) "
-                                                 "or PNG (tone-mapped sRGB) file");
+    CLI::App* cmd = app.add_subcommand("render",
+                                       "Render a scene headless to an OpenEXR (linear FLOAT RGB + metadata) "
+                                       "or PNG (tone-mapped sRGB) file");
     add_common_options(*cmd, o->common);
     auto* spp = cmd->add_option("--spp", o->spp, "Samples per pixel (default 64 when --time is not given)")
                     ->check(CLI::Range(1, 1 << 30));
@@ -312,10 +335,11 @@ void add_render_command(CLI::App& app) {
                                     "combines with the other ranges (EXR outputs: R G B = this range's image, plus "
                                     "the exact per-pixel sums)")
                         ->excludes(spp);
-    auto* resume = cmd->add_option("--resume", o->resume,
-                    "Continue the partial render PART.exr (from `--samples` or `pathview merge`) with --spp N more "
-                    "samples after its last index; scene, camera, size and settings come from the part")
-        ->excludes(samples);
+    auto* resume =
+        cmd->add_option("--resume", o->resume,
+                        "Continue the partial render PART.exr (from `--samples` or `pathview merge`) with --spp N more "
+                        "samples after its last index; scene, camera, size and settings come from the part")
+            ->excludes(samples);
     cmd->add_option("--shard", o->shard,
                     "Render shard I of N (I/N, I from 0) of the --spp sample indices as a partial render, like "
                     "--samples with the range computed: N contiguous ranges that tile [0, spp)")
@@ -323,12 +347,15 @@ void add_render_command(CLI::App& app) {
         ->excludes(samples)
         ->excludes(resume);
     o->cmd = cmd;
-    cmd->add_flag("--aovs", o->aovs, "EXR outputs also hold first-hit albedo (Albedo.*), shading normal (Ns.*), "
+    cmd->add_flag("--aovs", o->aovs,
+                  "EXR outputs also hold first-hit albedo (Albedo.*), shading normal (Ns.*), "
                   "depth (Z), SampleCount, Variance.* (of the mean) and the even/odd half means (even.*, odd.*); "
                   "see core/aov.h");
-    cmd->add_flag("--denoise", o->denoise, "Denoise (NFOR regression on first-hit features, cross-validated between "
+    cmd->add_flag("--denoise", o->denoise,
+                  "Denoise (NFOR regression on first-hit features, cross-validated between "
                   "the even/odd halves): the image written is denoised, EXRs keep the raw mean as noisy.R/G/B");
-    cmd->add_option("--denoiser", o->denoiser, "Denoiser for --denoise: nfor (final quality) or atrous (the viewer's "
+    cmd->add_option("--denoiser", o->denoiser,
+                    "Denoiser for --denoise: nfor (final quality) or atrous (the viewer's "
                     "interactive edge-avoiding filter)")
         ->check(CLI::IsMember({"nfor", "atrous"}))
         ->capture_default_str();

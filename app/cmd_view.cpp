@@ -1,6 +1,5 @@
 // app/cmd_view.cpp: `pathview view` (the default subcommand): the interactive viewer (ui/viewer.h).
 #include "app/commands.h"
-
 #include "core/error.h"
 #include "core/scene_file.h"
 
@@ -23,7 +22,8 @@ struct ViewOptions {
 void run(const ViewOptions& o) {
 #ifdef PATHVIEW_HAS_UI
     if (!std::filesystem::is_directory(o.snapshot_dir))
-        throw Error("--snapshot-dir " + o.snapshot_dir + ": not a folder; expected an existing folder for EXR snapshots");
+        throw Error("--snapshot-dir " + o.snapshot_dir +
+                    ": not a folder; expected an existing folder for EXR snapshots");
     ui::ViewerOptions v;
     v.load_scene = [&o] {
         Scene scene = load_scene(scene_path(o.common));

@@ -1,31 +1,30 @@
 // app/commands.h: the pathview subcommands. Each registers its options on the CLI and runs when chosen.
 #pragma once
 
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
 #include "core/adaptive.h"
 #include "core/camera.h"
 #include "core/image_io.h"
 #include "core/integrator.h"
 
-#include <CLI/CLI.hpp>
-
-#include <optional>
-#include <string>
-
 namespace pv::app {
 
 // Options shared by every subcommand that renders: scene, estimator and camera overrides.
 struct CommonOptions {
-    std::string scene;           // empty: the built-in Cornell box
+    std::string scene;  // empty: the built-in Cornell box
     int width = 512, height = 512;
-    int threads = 0;             // 0: all cores
+    int threads = 0;  // 0: all cores
     RenderSettings settings;
-    AdaptiveSettings adaptive;                  // --noise-threshold, --min-spp
+    AdaptiveSettings adaptive;  // --noise-threshold, --min-spp
     std::vector<float> eye, target, up;
     std::optional<float> fov, aperture, focus_distance;
-    std::string environment;                    // "r,g,b", a number, a map file, or "sky"
+    std::string environment;  // "r,g,b", a number, a map file, or "sky"
     std::optional<float> env_rotation, env_strength;
-    std::string bookmark;                       // start from this saved camera
-    std::vector<float> sun;                     // direction toward the sun
+    std::string bookmark;    // start from this saved camera
+    std::vector<float> sun;  // direction toward the sun
     std::optional<float> sun_irradiance, sun_radius;
     double max_image_megapixels = double(ImageLimits{}.max_pixels) * 1e-6;  // memory budget of one image
 };

@@ -1,11 +1,4 @@
 // app/common.cpp: options shared by the subcommands that render.
-#include "app/commands.h"
-
-#include "core/error.h"
-#include "core/film.h"
-#include "core/image_io.h"
-#include "core/scene_file.h"
-
 #include <sched.h>
 #include <sys/resource.h>
 
@@ -13,6 +6,12 @@
 #include <cmath>
 #include <cstdio>
 #include <thread>
+
+#include "app/commands.h"
+#include "core/error.h"
+#include "core/film.h"
+#include "core/image_io.h"
+#include "core/scene_file.h"
 
 namespace pv::app {
 namespace {
@@ -137,7 +136,8 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
         ->transform(kOnOff)
         ->default_str(on_off(o.settings.russian_roulette));
     cmd.add_option("--sampler", o.settings.sampler, "Sample generator: independent|sobol (Owen-scrambled, padded)")
-        ->transform(choices({{"independent", int(SamplerKind::Independent)}, {"ind", int(SamplerKind::Independent)},
+        ->transform(choices({{"independent", int(SamplerKind::Independent)},
+                             {"ind", int(SamplerKind::Independent)},
                              {"sobol", int(SamplerKind::Sobol)}}))
         ->default_str(sampler_name(o.settings.sampler));
     cmd.add_option("--noise-threshold", o.adaptive.noise_threshold,
@@ -147,11 +147,21 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
     cmd.add_option("--min-spp", o.adaptive.min_spp, "Adaptive sampling: samples every pixel takes before it may stop")
         ->check(CLI::Range(2u, 1u << 30))
         ->capture_default_str();
-    cmd.add_option("--eye", o.eye, "Camera position x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
-    cmd.add_option("--target", o.target, "Camera target x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
-    cmd.add_option("--up", o.up, "Camera up vector x,y,z")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
+    cmd.add_option("--eye", o.eye, "Camera position x,y,z")
+        ->expected(3)
+        ->delimiter(',')
+        ->check(finite_range(-1e30, 1e30));
+    cmd.add_option("--target", o.target, "Camera target x,y,z")
+        ->expected(3)
+        ->delimiter(',')
+        ->check(finite_range(-1e30, 1e30));
+    cmd.add_option("--up", o.up, "Camera up vector x,y,z")
+        ->expected(3)
+        ->delimiter(',')
+        ->check(finite_range(-1e30, 1e30));
     cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->check(finite_range(0.01, 179));
-    cmd.add_option("--aperture", o.aperture, "Thin-lens radius in scene units (0: pinhole)")->check(finite_range(0, 1e30));
+    cmd.add_option("--aperture", o.aperture, "Thin-lens radius in scene units (0: pinhole)")
+        ->check(finite_range(0, 1e30));
     cmd.add_option("--focus-distance", o.focus_distance, "Focus distance in scene units (0: at the target)")
         ->check(finite_range(0, 1e30));
     cmd.add_option("--bookmark", o.bookmark, "Start from the camera bookmark of this name saved in the scene file");
@@ -161,7 +171,10 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
     cmd.add_option("--env-rotation", o.env_rotation, "Environment rotation about +y, degrees")
         ->check(finite_range(-1e30, 1e30));
     cmd.add_option("--env-strength", o.env_strength, "Environment radiance multiplier")->check(finite_range(0, 1e30));
-    cmd.add_option("--sun", o.sun, "Add a sun in direction x,y,z (toward the sun)")->expected(3)->delimiter(',')->check(finite_range(-1e30, 1e30));
+    cmd.add_option("--sun", o.sun, "Add a sun in direction x,y,z (toward the sun)")
+        ->expected(3)
+        ->delimiter(',')
+        ->check(finite_range(-1e30, 1e30));
     cmd.add_option("--sun-irradiance", o.sun_irradiance, "Sun irradiance on a surface facing it (default 5 with --sun)")
         ->check(finite_range(0, 1e30));
     cmd.add_option("--max-image-megapixels", o.max_image_megapixels,
@@ -169,14 +182,15 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                    "implausibly small files are refused before decoding")
         ->check(finite_range(0.001, 1e6))
         ->capture_default_str();
-    cmd.add_option("--sun-radius", o.sun_radius, "Sun angular radius, degrees (default 0.27)")->check(finite_range(0.01, 45));
+    cmd.add_option("--sun-radius", o.sun_radius, "Sun angular radius, degrees (default 0.27)")
+        ->check(finite_range(0.01, 45));
 }
 
 void resolve_switches(CommonOptions& o) {
     // TBB runs at most as many threads as the cores this process may use, whatever the arena asks for: report that.
     cpu_set_t cpus;
-    const int usable = sched_getaffinity(0, sizeof cpus, &cpus) == 0 ? CPU_COUNT(&cpus)
-                                                                     : int(std::thread::hardware_concurrency());
+    const int usable =
+        sched_getaffinity(0, sizeof cpus, &cpus) == 0 ? CPU_COUNT(&cpus) : int(std::thread::hardware_concurrency());
     if (usable > 0 && o.threads > usable) {
         std::fprintf(stderr, "pathview: note: --threads %d: %d cores can be used here; rendering with %d threads\n",
                      o.threads, usable, usable);

@@ -1,22 +1,22 @@
 // app/main.cpp: the pathview executable. Subcommands: view (the default), render, bench.
 // The only top-level catch: bad input prints one line and exits non-zero.
-#include "app/commands.h"
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
 
+#include "app/commands.h"
 #include "core/error.h"
 #include "core/version.h"
 
-#include <cstdio>
-#include <algorithm>
-#include <cstring>
-
 int main(int argc, char** argv) {
-    CLI::App app{"pathview: an interactive CPU path tracer (Embree BVH, OBJ/MTL scenes, OpenEXR output).\n"
-                 "  pathview [SCENE] [options]        open the viewer (same as `pathview view`)\n"
-                 "  pathview render [SCENE] -o OUT    render headless to .exr or .png\n"
-                 "  pathview bench [SCENE]            speed against error\n"
-                 "  pathview merge OUT PART...        merge partial renders (render --samples START:COUNT)\n"
-                 "SCENE is a .json scene file or an .obj; default: the built-in Cornell box.",
-                 "pathview"};
+    CLI::App app{
+        "pathview: an interactive CPU path tracer (Embree BVH, OBJ/MTL scenes, OpenEXR output).\n"
+        "  pathview [SCENE] [options]        open the viewer (same as `pathview view`)\n"
+        "  pathview render [SCENE] -o OUT    render headless to .exr or .png\n"
+        "  pathview bench [SCENE]            speed against error\n"
+        "  pathview merge OUT PART...        merge partial renders (render --samples START:COUNT)\n"
+        "SCENE is a .json scene file or an .obj; default: the built-in Cornell box.",
+        "pathview"};
     app.set_version_flag("--version", std::string("pathview ") + pv::kVersion);
     CLI::App* view_cmd = nullptr;
     pv::app::add_view_command(app, view_cmd);
@@ -28,7 +28,9 @@ int main(int argc, char** argv) {
     // `pathview [SCENE] [options]` means `pathview view [SCENE] [options]`.
     std::vector<std::string> args(argv + 1, argv + argc);
     const bool top_level_flag = !args.empty() && (args[0] == "-h" || args[0] == "--help" || args[0] == "--version");
-    if (!top_level_flag && (args.empty() || (args[0] != "view" && args[0] != "render" && args[0] != "bench" && args[0] != "merge"))) args.insert(args.begin(), "view");
+    if (!top_level_flag &&
+        (args.empty() || (args[0] != "view" && args[0] != "render" && args[0] != "bench" && args[0] != "merge")))
+        args.insert(args.begin(), "view");
     std::reverse(args.begin(), args.end());  // CLI11 takes the arguments reversed
 
     try {

@@ -1,9 +1,6 @@
 // core/accel.cpp: Embree 3 device, scene and queries.
 #include "core/accel.h"
 
-#include "core/error.h"
-#include "core/rng.h"
-
 #include <embree3/rtcore.h>
 #include <pmmintrin.h>
 #include <xmmintrin.h>
@@ -13,6 +10,9 @@
 #include <chrono>
 #include <limits>
 #include <mutex>
+
+#include "core/error.h"
+#include "core/rng.h"
 
 namespace pv {
 
@@ -57,8 +57,8 @@ struct Accel::Impl {
     RTCScene scene = nullptr;
     AccelStats stats;
     const Scene* source = nullptr;
-    std::vector<uint32_t> alpha;          // per material: its alpha texture (the edited materials'), or kNoIndex
-    std::vector<uint32_t> prims[2];       // per geometry: the Scene triangle of each primID (empty: the identity)
+    std::vector<uint32_t> alpha;     // per material: its alpha texture (the edited materials'), or kNoIndex
+    std::vector<uint32_t> prims[2];  // per geometry: the Scene triangle of each primID (empty: the identity)
 
     uint32_t scene_prim(unsigned geom, unsigned prim) const {
         const std::vector<uint32_t>& map = prims[geom];
@@ -143,8 +143,8 @@ void Accel::Impl::build(const std::function<void(double)>* progress) {
         RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
         rtcSetGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices, 0, sizeof(vec3),
                              s.positions.size());
-        auto* idx = static_cast<uvec3*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                sizeof(uvec3), list.size()));
+        auto* idx = static_cast<uvec3*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, sizeof(uvec3), list.size()));
         check("Embree buffer allocation");
         for (size_t i = 0; i < list.size(); ++i) idx[i] = s.triangles[list[i]];
         if (g == kAlphaGeometry) {
@@ -178,7 +178,8 @@ Accel::Accel(const Scene& s, const std::vector<Material>& materials, const std::
     const auto start = std::chrono::steady_clock::now();
     Impl& im = *m_impl;
     im.device = rtcNewDevice(nullptr);
-    if (!im.device) throw Error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+    if (!im.device)
+        throw Error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
     rtcSetDeviceErrorFunction(im.device, on_embree_error, &im.errors);
     rtcSetDeviceMemoryMonitorFunction(im.device, on_memory, &im.memory);
     im.source = &s;

@@ -2,23 +2,23 @@
 // Embree types stay in accel.cpp. Device errors become pv::Error. Thread-safe for concurrent queries.
 #pragma once
 
-#include "core/camera.h"
-#include "core/scene.h"
-
 #include <functional>
 #include <memory>
+
+#include "core/camera.h"
+#include "core/scene.h"
 
 namespace pv {
 
 struct Hit {
     float t = 0.f;
-    float u = 0.f, v = 0.f;   // barycentrics of vertices 1 and 2
-    uint32_t prim = kNoIndex; // triangle index in the Scene
+    float u = 0.f, v = 0.f;    // barycentrics of vertices 1 and 2
+    uint32_t prim = kNoIndex;  // triangle index in the Scene
 };
 
 struct AccelStats {
     double build_seconds = 0.0;
-    size_t bytes = 0;   // BVH and geometry memory reported by Embree's memory monitor
+    size_t bytes = 0;  // BVH and geometry memory reported by Embree's memory monitor
 };
 
 class Accel {
@@ -29,8 +29,7 @@ public:
     // whose material has none are a separate Embree geometry without the filter callback, so opaque surfaces pay
     // nothing for cut-outs elsewhere. The scene must outlive the Accel.
     explicit Accel(const Scene& scene, const std::function<void(double)>& progress = {});
-    Accel(const Scene& scene, const std::vector<Material>& materials,
-          const std::function<void(double)>& progress = {});
+    Accel(const Scene& scene, const std::vector<Material>& materials, const std::function<void(double)>& progress = {});
     ~Accel();
     // Edited materials (same count as the scene's; ignored otherwise): rays see their alpha cut-outs from now on.
     // Rebuilds the BVH only when the set of materials with a cut-out changes. Materials whose cut-outs are unchanged

@@ -8,10 +8,10 @@
 // Everything here depends only on the film and the counts, so images stay identical for any thread count.
 #pragma once
 
-#include "core/film.h"
-
 #include <cstdint>
 #include <vector>
+
+#include "core/film.h"
 
 namespace pv {
 

@@ -1,10 +1,6 @@
 // core/aov.cpp: the first-hit feature pass, the film's statistics as layers, and the multi-layer EXR writer.
 #include "core/aov.h"
 
-#include "core/error.h"
-#include "core/exr_io.h"
-#include "core/surface.h"
-
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -16,6 +12,10 @@
 #include <unistd.h>
 
 #include <filesystem>
+
+#include "core/error.h"
+#include "core/exr_io.h"
+#include "core/surface.h"
 
 namespace pv {
 namespace {
@@ -173,22 +173,22 @@ ExrLayer read_exr_layer(const std::string& path, const std::vector<std::string>&
     ExrLayer l;
     try {
         read_exr_guarded(path, [&](Imf::InputFile& file) {
-        const Imath::Box2i dw = file.header().dataWindow();
-        const long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
-        if (w <= 0 || h <= 0 || w * h > (1l << 28)) throw Error(path + ": EXR data window is empty or too large");
-        l = ExrLayer{channels, std::vector<float>(size_t(w) * size_t(h) * channels.size())};
-        Imf::FrameBuffer fb;
-        const size_t xs = channels.size() * sizeof(float), ys = xs * size_t(w);
-        char* base = reinterpret_cast<char*>(l.data.data()) - (size_t(dw.min.x) * xs + size_t(dw.min.y) * ys);
-        for (size_t c = 0; c < channels.size(); ++c) {
-            if (!file.header().channels().findChannel(channels[c]))
-                throw Error(path + ": EXR has no channel " + channels[c]);
-            fb.insert(channels[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
-        }
-        file.setFrameBuffer(fb);
-        file.readPixels(dw.min.y, dw.max.y);
-        if (width) *width = int(w);
-        if (height) *height = int(h);
+            const Imath::Box2i dw = file.header().dataWindow();
+            const long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
+            if (w <= 0 || h <= 0 || w * h > (1l << 28)) throw Error(path + ": EXR data window is empty or too large");
+            l = ExrLayer{channels, std::vector<float>(size_t(w) * size_t(h) * channels.size())};
+            Imf::FrameBuffer fb;
+            const size_t xs = channels.size() * sizeof(float), ys = xs * size_t(w);
+            char* base = reinterpret_cast<char*>(l.data.data()) - (size_t(dw.min.x) * xs + size_t(dw.min.y) * ys);
+            for (size_t c = 0; c < channels.size(); ++c) {
+                if (!file.header().channels().findChannel(channels[c]))
+                    throw Error(path + ": EXR has no channel " + channels[c]);
+                fb.insert(channels[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), xs, ys));
+            }
+            file.setFrameBuffer(fb);
+            file.readPixels(dw.min.y, dw.max.y);
+            if (width) *width = int(w);
+            if (height) *height = int(h);
         });
     } catch (const Error&) {
         throw;

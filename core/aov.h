@@ -14,16 +14,17 @@
 //   noisy.R noisy.G noisy.B      the undenoised mean (written with --denoise)
 // Mirror and glass: the features follow the specular chain to the first rough (non-delta) surface, as denoisers
 // expect (glass picks reflection or refraction by its Fresnel weight per feature sample); an emitter ends the
-// chain like a rough surface, with its emission clamped to 1 as albedo. Rays that leave the scene give albedo 0, normal 0 and Z 0.
+// chain like a rough surface, with its emission clamped to 1 as albedo. Rays that leave the scene give albedo 0, normal
+// 0 and Z 0.
 #pragma once
+
+#include <string>
+#include <vector>
 
 #include "core/camera.h"
 #include "core/film.h"
 #include "core/image_io.h"
 #include "core/integrator.h"
-
-#include <string>
-#include <vector>
 
 namespace pv {
 

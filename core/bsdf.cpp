@@ -1,9 +1,9 @@
 // core/bsdf.cpp: evaluation, pdf and sampling of each lobe. See bsdf.h for the conventions.
 #include "core/bsdf.h"
 
-#include "core/warp.h"
-
 #include <cfloat>
+
+#include "core/warp.h"
 
 namespace pv {
 namespace {

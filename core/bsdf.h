@@ -6,12 +6,12 @@
 // to tell outside (+) from inside (-).
 #pragma once
 
-#include "core/math.h"
-#include "core/warp.h"
-
 #include <optional>
 #include <string>
 #include <variant>
+
+#include "core/math.h"
+#include "core/warp.h"
 
 namespace pv {
 
@@ -82,7 +82,7 @@ constexpr float kMinAlpha = 1e-3f;
 struct Material {
     std::string name = "default";
     Bsdf bsdf = Lambertian{};
-    vec3 emission{0.f};             // radiance leaving the front face (Ke)
+    vec3 emission{0.f};  // radiance leaving the front face (Ke)
     bool two_sided_emission = false;
     uint32_t base_color_texture = kNoIndex;  // index into Scene::textures (map_Kd), replaces the base colour
     uint32_t alpha_texture = kNoIndex;       // index into Scene::textures (map_d): stochastic cut-out
@@ -119,7 +119,7 @@ inline std::optional<BsdfSample> sample(const Bsdf& bsdf, vec3 wo, float u_lobe,
         if (wo.z == 0.f) return std::nullopt;
         vec3 wi = square_to_cosine_hemisphere(u);
         if (!(wi.z > 0.f)) return std::nullopt;  // wi.z == 0 at the disk's rim: a grazing, useless direction
-        const float p = wi.z * kInvPi;            // cosine_hemisphere_pdf(wi.z)
+        const float p = wi.z * kInvPi;           // cosine_hemisphere_pdf(wi.z)
         if (wo.z < 0.f) wi.z = -wi.z;
         return BsdfSample{l->albedo * kInvPi, wi, p, false};
     }

@@ -11,7 +11,8 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : m_desc(desc), m_
     if (!(glm::length(fwd) > 0.f) || !is_finite(fwd)) throw Error("camera: eye and target must differ and be finite");
     m_forward = glm::normalize(fwd);
     vec3 right = glm::cross(m_forward, desc.up);
-    if (!(glm::length(right) > 1e-6f)) right = glm::cross(m_forward, std::fabs(m_forward.y) < 0.9f ? vec3(0, 1, 0) : vec3(1, 0, 0));
+    if (!(glm::length(right) > 1e-6f))
+        right = glm::cross(m_forward, std::fabs(m_forward.y) < 0.9f ? vec3(0, 1, 0) : vec3(1, 0, 0));
     m_right = glm::normalize(right);
     m_up = glm::cross(m_right, m_forward);
     if (!(desc.vfov_deg > 0.f && desc.vfov_deg < 180.f)) throw Error("camera: fov must be in (0, 180) degrees");

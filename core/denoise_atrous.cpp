@@ -9,8 +9,8 @@ namespace {
 constexpr int kPasses = 5;
 // B3-spline taps (1/16, 1/4, 3/8, 1/4, 1/16), Dammertz et al. 2010.
 constexpr float kTap[5] = {1.f / 16, 1.f / 4, 3.f / 8, 1.f / 4, 1.f / 16};
-// Edge-stopping parameters (SVGF, Schied et al. 2017, sec. 4.4; normal exponent 64 below): colour in standard deviations,
-// depth relative to the pixel's depth, albedo difference.
+// Edge-stopping parameters (SVGF, Schied et al. 2017, sec. 4.4; normal exponent 64 below): colour in standard
+// deviations, depth relative to the pixel's depth, albedo difference.
 constexpr float kSigmaColour = 4.f, kSigmaDepth = 0.02f, kSigmaAlbedo = 0.1f;
 
 }  // namespace
@@ -28,7 +28,9 @@ Image denoise_atrous(const Image& mean, const Image& variance_of_mean, const Fea
         col[i] = c / alb[i];
         const float a = luminance(alb[i]);
         var[i] = std::max(0.f, (variance_of_mean.rgb[i * 3] + variance_of_mean.rgb[i * 3 + 1] +
-                                variance_of_mean.rgb[i * 3 + 2]) / 3.f) / (a * a);
+                                variance_of_mean.rgb[i * 3 + 2]) /
+                                   3.f) /
+                 (a * a);
     }
     std::vector<float> sigma(n);  // the colour scale, from the variance box-filtered over 3x3 (SVGF sec. 4.4)
     std::vector<float> lum(n);    // luminance of the current pass's input

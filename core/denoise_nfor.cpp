@@ -1,10 +1,10 @@
 // core/denoise_nfor.cpp: cross-filtered first-order regression with per-pixel bandwidth selection (see the header).
 #include "core/denoise_nfor.h"
 
-#include <Eigen/Dense>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
 

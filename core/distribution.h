@@ -5,11 +5,11 @@
 // interval / square.
 #pragma once
 
-#include "core/math.h"
-
 #include <algorithm>
 #include <cstdint>
 #include <vector>
+
+#include "core/math.h"
 
 namespace pv {
 

@@ -1,9 +1,9 @@
 // core/environment.cpp: constant and equirectangular environments.
 #include "core/environment.h"
 
-#include "core/warp.h"
-
 #include <algorithm>
+
+#include "core/warp.h"
 
 namespace pv {
 
@@ -189,13 +189,9 @@ bool Environment::in_sun(vec3 dir) const {
     return glm::dot(dir, m_sun_dir) > 0.f && glm::dot(c, c) <= m_sun_sin2 * glm::dot(dir, dir);
 }
 
-vec3 Environment::eval_sun(vec3 dir) const {
-    return m_p_sun > 0.f && in_sun(dir) ? m_sun_radiance : vec3(0.f);
-}
+vec3 Environment::eval_sun(vec3 dir) const { return m_p_sun > 0.f && in_sun(dir) ? m_sun_radiance : vec3(0.f); }
 
-float Environment::pdf_sun(vec3 dir) const {
-    return m_p_sun > 0.f && in_sun(dir) ? m_sun_pdf : 0.f;
-}
+float Environment::pdf_sun(vec3 dir) const { return m_p_sun > 0.f && in_sun(dir) ? m_sun_pdf : 0.f; }
 
 vec3 Environment::eval_sky(vec3 dir) const {
     if (m_sky_black) return vec3(0.f);

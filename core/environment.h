@@ -9,25 +9,25 @@
 // column (u = 0.5) faces -x. pdfs are per solid angle.
 #pragma once
 
-#include "core/distribution.h"
-#include "core/scene.h"
-
 #include <optional>
 #include <vector>
+
+#include "core/distribution.h"
+#include "core/scene.h"
 
 namespace pv {
 
 struct EnvironmentSample {
-    vec3 wi{0.f};   // world direction toward the environment
-    vec3 le{0.f};   // radiance arriving from it
+    vec3 wi{0.f};  // world direction toward the environment
+    vec3 le{0.f};  // radiance arriving from it
     float pdf = 0.f;
 };
 
 // The environment's adjustable parameters (the map itself stays in the Scene). Defaults come from the scene.
 struct EnvironmentSettings {
-    vec3 background{0.f};       // constant sky radiance when there is no map
-    float rotation_deg = 0.f;   // map rotation about +y
-    float strength = 1.f;       // multiplies the sky
+    vec3 background{0.f};      // constant sky radiance when there is no map
+    float rotation_deg = 0.f;  // map rotation about +y
+    float strength = 1.f;      // multiplies the sky
     vec3 sun_direction{0.f, 1.f, 0.f};
     float sun_angular_radius_deg = 0.27f;
     vec3 sun_irradiance{0.f};
@@ -90,12 +90,12 @@ private:
     size_t texel_index(vec3 dir, float* sin_theta) const;
     const Texture* m_map = nullptr;
     float m_strength = 1.f;
-    float m_rotation = 0.f;  // radians
+    float m_rotation = 0.f;        // radians
     vec2 m_rotation_cs{1.f, 0.f};  // cos, sin of m_rotation
     Distribution2D m_dist;
-    std::vector<vec3> m_radiance;   // per texel, times the strength: what eval_sky returns
-    std::vector<vec2> m_col_edges;  // (cos, sin) of phi_k = 2 pi k / width, map space, k < width
-    std::vector<vec2> m_row_edges;  // (sin, cos) of theta_k = pi k / height, k <= height
+    std::vector<vec3> m_radiance;                  // per texel, times the strength: what eval_sky returns
+    std::vector<vec2> m_col_edges;                 // (cos, sin) of phi_k = 2 pi k / width, map space, k < width
+    std::vector<vec2> m_row_edges;                 // (sin, cos) of theta_k = pi k / height, k <= height
     float m_col_margin = 0.f, m_row_margin = 0.f;  // approximate-angle error bound, in texels
 };
 

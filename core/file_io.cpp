@@ -1,8 +1,6 @@
 // core/file_io.cpp: POSIX open/fstat/read and write/fsync/rename with every result checked.
 #include "core/file_io.h"
 
-#include "core/error.h"
-
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -15,6 +13,8 @@
 #include <chrono>
 #include <cstring>
 #include <filesystem>
+
+#include "core/error.h"
 
 namespace pv {
 namespace {

@@ -5,11 +5,11 @@
 // A non-finite or negative sample is dropped and counted, never accumulated.
 #pragma once
 
-#include "core/math.h"
-
 #include <atomic>
 #include <optional>
 #include <vector>
+
+#include "core/math.h"
 
 namespace pv {
 

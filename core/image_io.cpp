@@ -4,10 +4,7 @@
 // Guarding it keeps the Debian package; the C core API's limits would mean rewriting the reader for the same end.
 #include "core/image_io.h"
 
-#include "core/error.h"
-#include "core/exr_io.h"
-#include "core/file_io.h"
-
+#include <Iex.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -16,7 +13,6 @@
 #include <ImfOutputFile.h>
 #include <ImfStandardAttributes.h>
 #include <ImfStringAttribute.h>
-#include <Iex.h>
 #include <fcntl.h>
 #include <stb_image_write.h>
 #include <sys/stat.h>
@@ -29,6 +25,10 @@
 #include <filesystem>
 #include <vector>
 
+#include "core/error.h"
+#include "core/exr_io.h"
+#include "core/file_io.h"
+
 namespace pv {
 namespace {
 
@@ -39,7 +39,8 @@ class FdOStream : public Imf::OStream {
 public:
     FdOStream(int fd, const std::string& path) : Imf::OStream(path.c_str()), m_fd(fd), m_path(path) {}
     void write(const char c[], int n) override {
-        if (m_buf.empty()) m_buf_start = m_pos;
+        if (m_buf.empty())
+            m_buf_start = m_pos;
         else if (m_buf_start + m_buf.size() != m_pos) {
             flush();
             m_buf_start = m_pos;
@@ -207,7 +208,8 @@ void prescan_exr(const std::string& path, const std::string& head, uint64_t file
                 h = int64_t(le32(v + 12)) - le32(v + 4) + 1;
                 have_window = true;
             }
-            if (name == "chunkCount" && type == "int" && size == 4 && (le32(v) < 0 || uint64_t(le32(v)) * 8 > file_size))
+            if (name == "chunkCount" && type == "int" && size == 4 &&
+                (le32(v) < 0 || uint64_t(le32(v)) * 8 > file_size))
                 throw Error(path + ": corrupt EXR header: " + std::to_string(le32(v)) + " chunks in a file of " +
                             std::to_string(file_size) + " bytes");
             if (name == "tiles" && type == "tiledesc" && size == 9 &&
@@ -357,7 +359,8 @@ Image read_exr(const std::string& path, Metadata* metadata) {
         read_rgb(path, file, reinterpret_cast<char*>(img.rgb.data()), 3 * sizeof(float));
         if (metadata)
             for (auto it = file.header().begin(); it != file.header().end(); ++it)
-                if (auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) (*metadata)[it.name()] = s->value();
+                if (auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+                    (*metadata)[it.name()] = s->value();
     });
     return img;
 }

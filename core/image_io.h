@@ -6,13 +6,13 @@
 // is refused before its pixels are allocated.
 #pragma once
 
-#include "core/film.h"
-
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <string>
 #include <vector>
+
+#include "core/film.h"
 
 namespace pv {
 

@@ -88,7 +88,8 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         std::optional<Bsdf> textured;
         if (mat.base_color_texture != kNoIndex) {
             textured.emplace(mat.bsdf);
-            set_base_color(*textured, vec3(scene.textures[mat.base_color_texture].lookup(scene.uv_at(hit.prim, hit.u, hit.v))));
+            set_base_color(*textured,
+                           vec3(scene.textures[mat.base_color_texture].lookup(scene.uv_at(hit.prim, hit.u, hit.v))));
             bsdf = &*textured;
         }
 
@@ -171,8 +172,8 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
                         if (mis && !std::isinf(pl)) {
                             const float pb = pdf(*bsdf, wo, wi);
                             const float denom = pl * pl + pb * pb;
-                            w_over_pdf = denom > 0.f && std::isfinite(denom) ? pl / denom
-                                                                              : power_heuristic(pl, pb) / pl;
+                            w_over_pdf =
+                                denom > 0.f && std::isfinite(denom) ? pl / denom : power_heuristic(pl, pb) / pl;
                         }
                         L += beta * f * (std::fabs(wi.z) * w_over_pdf) * ls.le;
                     }

@@ -4,13 +4,13 @@
 // max_depth truncates paths. max_depth counts scattering events: 0 shows only emitters seen directly.
 #pragma once
 
+#include <cstdint>
+#include <string>
+
 #include "core/accel.h"
 #include "core/environment.h"
 #include "core/lights.h"
 #include "core/sampler.h"
-
-#include <cstdint>
-#include <string>
 
 namespace pv {
 
@@ -39,7 +39,7 @@ struct PathCounters {
     uint64_t rays = 0;         // closest-hit rays
     uint64_t shadow_rays = 0;  // occlusion rays
     uint64_t paths = 0;
-    uint64_t vertices = 0;     // surface interactions
+    uint64_t vertices = 0;  // surface interactions
 };
 
 // Everything a path needs, read-only and shared by all threads.
@@ -66,8 +66,7 @@ constexpr uint32_t kBounceDims = 5;
 // Starts sample `index` of pixel (x, y) and returns its camera ray: the film point jittered uniformly over the
 // pixel (a box filter; its centre with pixel_centre) and, for a thin lens, the lens point. Every renderer (and test)
 // draws camera rays through this one function.
-inline Ray camera_ray(const Camera& camera, Sampler& sampler, int x, int y, uint32_t index,
-                      bool pixel_centre = false) {
+inline Ray camera_ray(const Camera& camera, Sampler& sampler, int x, int y, uint32_t index, bool pixel_centre = false) {
     sampler.start(uvec2(uint32_t(x), uint32_t(y)), index);
     const uint32_t dim = sampler.reserve(kCameraDims);
     const vec2 film = vec2(float(x), float(y)) + (pixel_centre ? vec2(0.5f) : sampler.get2d_at(dim));

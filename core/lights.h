@@ -7,25 +7,25 @@
 // about 2^-24 (their pmf is 0): the integrator leaves those to BSDF sampling, as it does any emitter of pdf 0.
 #pragma once
 
+#include <algorithm>
+#include <optional>
+#include <vector>
+
 #include "core/camera.h"
 #include "core/distribution.h"
 #include "core/scene.h"
 #include "core/warp.h"
 
-#include <algorithm>
-#include <optional>
-#include <vector>
-
 namespace pv {
 
 struct LightSample {
-    vec3 p{0.f};       // point on the light
-    vec3 p_error{0.f}; // bound on p's rounding error (barycentric_error), for offset_ray_origin
-    vec3 n{0.f};       // its unit geometric normal (winding order)
-    vec3 le{0.f};      // emitted radiance toward the shading point (0 from a one-sided back face)
-    vec3 wi{0.f};      // unit direction from the shading point to p
+    vec3 p{0.f};        // point on the light
+    vec3 p_error{0.f};  // bound on p's rounding error (barycentric_error), for offset_ray_origin
+    vec3 n{0.f};        // its unit geometric normal (winding order)
+    vec3 le{0.f};       // emitted radiance toward the shading point (0 from a one-sided back face)
+    vec3 wi{0.f};       // unit direction from the shading point to p
     float dist = 0.f;
-    float pdf = 0.f;   // per solid angle at the shading point
+    float pdf = 0.f;  // per solid angle at the shading point
 };
 
 // The shadow ray of a light sample, from `origin` (the shading point already offset to the side ls.wi leaves by):

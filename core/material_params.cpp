@@ -26,20 +26,24 @@ BsdfParams bsdf_params(const Bsdf& bsdf) {
 Bsdf make_bsdf(const BsdfParams& p) {
     auto unit = [](vec3 c) {
         // NaN fails both comparisons of clamp; map it to 0 explicitly.
-        return vec3(std::isfinite(c.x) ? glm::clamp(c.x, 0.f, 1.f) : 0.f, std::isfinite(c.y) ? glm::clamp(c.y, 0.f, 1.f) : 0.f,
+        return vec3(std::isfinite(c.x) ? glm::clamp(c.x, 0.f, 1.f) : 0.f,
+                    std::isfinite(c.y) ? glm::clamp(c.y, 0.f, 1.f) : 0.f,
                     std::isfinite(c.z) ? glm::clamp(c.z, 0.f, 1.f) : 0.f);
     };
     switch (p.type) {
-    case BsdfType::Glossy: {
-        Glossy g;
-        g.specular = unit(p.specular);
-        g.diffuse = glm::min(unit(p.base), vec3(1.f) - g.specular);
-        g.alpha = std::isfinite(p.roughness) ? glm::clamp(p.roughness, kMinAlpha, 1.f) : 1.f;
-        return g;
-    }
-    case BsdfType::Mirror: return Mirror{unit(p.base)};
-    case BsdfType::Glass: return Dielectric{std::isfinite(p.ior) && p.ior > 0.f ? p.ior : 1.5f};
-    case BsdfType::Diffuse: break;
+        case BsdfType::Glossy: {
+            Glossy g;
+            g.specular = unit(p.specular);
+            g.diffuse = glm::min(unit(p.base), vec3(1.f) - g.specular);
+            g.alpha = std::isfinite(p.roughness) ? glm::clamp(p.roughness, kMinAlpha, 1.f) : 1.f;
+            return g;
+        }
+        case BsdfType::Mirror:
+            return Mirror{unit(p.base)};
+        case BsdfType::Glass:
+            return Dielectric{std::isfinite(p.ior) && p.ior > 0.f ? p.ior : 1.5f};
+        case BsdfType::Diffuse:
+            break;
     }
     return Lambertian{unit(p.base)};
 }

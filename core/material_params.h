@@ -13,8 +13,8 @@ enum class BsdfType : int { Diffuse = 0, Glossy = 1, Mirror = 2, Glass = 3 };
 
 struct BsdfParams {
     BsdfType type = BsdfType::Diffuse;
-    vec3 base{0.8f};      // diffuse albedo; a mirror's reflectance
-    vec3 specular{0.04f}; // glossy: the GGX lobe's Fresnel reflectance (MTL Ks)
+    vec3 base{0.8f};         // diffuse albedo; a mirror's reflectance
+    vec3 specular{0.04f};    // glossy: the GGX lobe's Fresnel reflectance (MTL Ks)
     float roughness = 0.2f;  // glossy: GGX alpha
     float ior = 1.5f;        // glass: n_inside / n_outside
 };

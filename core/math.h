@@ -2,11 +2,10 @@
 // Colours are linear RGB in vec3. Directions are unit vectors unless a name says otherwise.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <glm/glm.hpp>
 
 namespace pv {
 

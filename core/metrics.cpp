@@ -1,11 +1,11 @@
 // core/metrics.cpp: error metrics and log-log fits (see metrics.h).
 #include "core/metrics.h"
 
-#include "core/error.h"
-
 #include <algorithm>
 #include <cmath>
 #include <string>
+
+#include "core/error.h"
 
 namespace pv {
 

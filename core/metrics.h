@@ -4,10 +4,10 @@
 // Sums are in double. Mismatched image sizes throw pv::Error.
 #pragma once
 
-#include "core/film.h"
-
 #include <optional>
 #include <vector>
+
+#include "core/film.h"
 
 namespace pv {
 

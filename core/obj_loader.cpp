@@ -2,9 +2,6 @@
 // the validated Scene arrays.
 #include "core/obj_loader.h"
 
-#include "core/error.h"
-#include "core/file_io.h"
-
 #include <tiny_obj_loader.h>
 
 #include <cerrno>
@@ -15,6 +12,9 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+
+#include "core/error.h"
+#include "core/file_io.h"
 
 namespace pv {
 namespace {
@@ -96,7 +96,8 @@ PreScan prescan(const std::string& text, const std::string& file) {
                 }
                 if (r.ec == std::errc::result_out_of_range || idx > INT_MAX || idx < -static_cast<long long>(INT_MAX)) {
                     while (e < line_end && *e >= '0' && *e <= '9') ++e;
-                    throw Error(file + ":" + std::to_string(line_no) + ": face index " + std::string(static_cast<const char*>(p), static_cast<const char*>(e)) +
+                    throw Error(file + ":" + std::to_string(line_no) + ": face index " +
+                                std::string(static_cast<const char*>(p), static_cast<const char*>(e)) +
                                 " is out of range; expected an index between 1 and " + std::to_string(vcount));
                 }
                 if (idx == 0) {
@@ -356,7 +357,8 @@ Scene build_scene(std::string text, const std::string& file, const std::string& 
         scene.warnings.push_back(file + ": " + std::to_string(st.dropped_overflow) +
                                  " triangle(s) too large for float arithmetic (area overflows) dropped");
     if (st.dropped_degenerate)
-        scene.warnings.push_back(file + ": " + std::to_string(st.dropped_degenerate) + " zero-area triangle(s) dropped");
+        scene.warnings.push_back(file + ": " + std::to_string(st.dropped_degenerate) +
+                                 " zero-area triangle(s) dropped");
     if (st.dropped_nontriangle)
         scene.warnings.push_back(file + ": " + std::to_string(st.dropped_nontriangle) +
                                  " face(s) that could not be triangulated dropped");

@@ -21,9 +21,9 @@
 // When Kd + Ks exceeds 1 in a channel both are scaled down to sum to 1 (energy conservation), with a warning.
 #pragma once
 
-#include "core/scene.h"
-
 #include <string>
+
+#include "core/scene.h"
 
 namespace pv {
 
@@ -36,7 +36,7 @@ Scene load_obj(const std::string& path, const ObjOptions& options = {});
 // Loads OBJ text (no MTL); `name` is used in messages. For tests and the fuzzer.
 Scene load_obj_from_string(const std::string& text, const std::string& name, const ObjOptions& options = {});
 // Converts MTL-style parameters to a material as described above; warnings are appended.
-Material material_from_mtl(const std::string& name, vec3 kd, vec3 ks, vec3 ke, float ns, float ni, float d,
-                           int illum, std::vector<std::string>& warnings);
+Material material_from_mtl(const std::string& name, vec3 kd, vec3 ks, vec3 ke, float ns, float ni, float d, int illum,
+                           std::vector<std::string>& warnings);
 
 }  // namespace pv

@@ -2,12 +2,6 @@
 // the scene identity hash and the merge.
 #include "core/partial.h"
 
-#include "core/error.h"
-#include "core/exr_io.h"
-#include "core/renderer.h"
-#include "core/rng.h"
-#include "core/version.h"
-
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
@@ -26,6 +20,12 @@
 #include <sstream>
 #include <type_traits>
 #include <variant>
+
+#include "core/error.h"
+#include "core/exr_io.h"
+#include "core/renderer.h"
+#include "core/rng.h"
+#include "core/version.h"
 
 namespace pv {
 namespace {
@@ -47,10 +47,9 @@ struct CountPlane {
 const CountPlane kCounts[] = {{"count.n", &FilmPixel::n}, {"count.half", &FilmPixel::n_even}};
 
 // Attributes that make up the identity or are computed on writing; everything else is info.
-const std::set<std::string> kReservedKeys = {"pathview:partial",       "pathview:version", "pathview:scene_hash",
-                                             "pathview:settings",      "pathview:partial:camera",
-                                             "pathview:samples",       "pathview:spp",
-                                             "pathview:rel_mse_estimate"};
+const std::set<std::string> kReservedKeys = {"pathview:partial",  "pathview:version",         "pathview:scene_hash",
+                                             "pathview:settings", "pathview:partial:camera",  "pathview:samples",
+                                             "pathview:spp",      "pathview:rel_mse_estimate"};
 const char* const kSummedKeys[] = {"pathview:seconds", "pathview:rays", "pathview:dropped_samples"};
 
 std::string hex64(uint64_t v) {
@@ -79,8 +78,12 @@ public:
         std::memcpy(&tail, p, n);
         m_h = hash_combine(m_h, tail ^ (uint64_t(n) << 56));
     }
-    template <class T> void value(const T& v) { bytes(&v, sizeof v); }
-    template <class T> void vector(const std::vector<T>& v) {
+    template <class T>
+    void value(const T& v) {
+        bytes(&v, sizeof v);
+    }
+    template <class T>
+    void vector(const std::vector<T>& v) {
         value(uint64_t(v.size()));
         if (!v.empty()) bytes(v.data(), v.size() * sizeof(T));
     }
@@ -136,12 +139,14 @@ uint64_t PartialRender::sample_count() const {
 
 std::string format_ranges(const std::vector<SampleRange>& ranges) {
     std::string s;
-    for (const SampleRange& r : ranges) s += (s.empty() ? "" : ",") + std::to_string(r.start) + ":" + std::to_string(r.count);
+    for (const SampleRange& r : ranges)
+        s += (s.empty() ? "" : ",") + std::to_string(r.start) + ":" + std::to_string(r.count);
     return s;
 }
 
 void normalize_ranges(std::vector<SampleRange>& ranges, const std::string& what) {
-    std::sort(ranges.begin(), ranges.end(), [](const SampleRange& a, const SampleRange& b) { return a.start < b.start; });
+    std::sort(ranges.begin(), ranges.end(),
+              [](const SampleRange& a, const SampleRange& b) { return a.start < b.start; });
     std::vector<SampleRange> out;
     for (const SampleRange& r : ranges) {
         if (!out.empty() && r.start < out.back().end())
@@ -165,7 +170,8 @@ std::vector<SampleRange> parse_ranges(const std::string& text, const std::string
         const uint64_t a = colon == std::string::npos ? 0 : parse_u64(item.substr(0, colon), ok_a);
         const uint64_t b = colon == std::string::npos ? 0 : parse_u64(item.substr(colon + 1), ok_b);
         if (!ok_a || !ok_b || b == 0 || a + b > (uint64_t(1) << 32))
-            throw Error(what + ": sample range '" + item + "'; expected START:COUNT with COUNT > 0 and "
+            throw Error(what + ": sample range '" + item +
+                        "'; expected START:COUNT with COUNT > 0 and "
                         "START + COUNT <= 2^32");
         out.push_back({uint32_t(a), uint32_t(b)});
     }
@@ -180,8 +186,8 @@ SampleRange shard_range(uint32_t index, uint32_t shards, uint32_t total) {
                     ": expected INDEX/COUNT with 0 <= INDEX < COUNT");
     if (total < shards)
         throw Error("--shard " + std::to_string(index) + "/" + std::to_string(shards) + ": " + std::to_string(total) +
-                    " samples cannot fill " + std::to_string(shards) + " shards; use at most " +
-                    std::to_string(total) + " shards");
+                    " samples cannot fill " + std::to_string(shards) + " shards; use at most " + std::to_string(total) +
+                    " shards");
     const uint32_t base = total / shards, extra = total % shards;
     return {index * base + std::min(index, extra), base + (index < extra ? 1u : 0u)};
 }
@@ -232,7 +238,8 @@ CameraDesc parse_camera(const std::string& text, const std::string& what) {
                                 &c.eye.x, &c.eye.y, &c.eye.z, &c.target.x, &c.target.y, &c.target.z, &c.up.x, &c.up.y,
                                 &c.up.z, &c.vfov_deg, &c.aperture, &c.focus_distance, &used);
     if (got != 12 || size_t(used) != text.size() || camera_text(c) != text)
-        throw Error(what + ": camera '" + text + "' is malformed; expected --eye x,y,z --target x,y,z --up x,y,z "
+        throw Error(what + ": camera '" + text +
+                    "' is malformed; expected --eye x,y,z --target x,y,z --up x,y,z "
                     "--fov f --aperture a --focus-distance d");
     return c;
 }
@@ -246,13 +253,20 @@ RenderSettings parse_settings(const std::string& text, const std::string& what) 
         const size_t eq = item.find('=');
         const std::string key = item.substr(0, eq), value = eq == std::string::npos ? "" : item.substr(eq + 1);
         bool num_ok = false;
-        if (key == "nee") s.light_sampling = value == "on";
-        else if (key == "mis") s.mis = value == "on";
-        else if (key == "rr") s.russian_roulette = value == "on";
-        else if (key == "max_depth") s.max_depth = int(parse_u64(value, num_ok)), ok = num_ok;
-        else if (key == "seed") s.seed = uint32_t(parse_u64(value, num_ok)), ok = num_ok;
-        else if (key == "sampler" && parse_sampler(value)) s.sampler = *parse_sampler(value);
-        else ok = false;
+        if (key == "nee")
+            s.light_sampling = value == "on";
+        else if (key == "mis")
+            s.mis = value == "on";
+        else if (key == "rr")
+            s.russian_roulette = value == "on";
+        else if (key == "max_depth")
+            s.max_depth = int(parse_u64(value, num_ok)), ok = num_ok;
+        else if (key == "seed")
+            s.seed = uint32_t(parse_u64(value, num_ok)), ok = num_ok;
+        else if (key == "sampler" && parse_sampler(value))
+            s.sampler = *parse_sampler(value);
+        else
+            ok = false;
     }
     if (!ok || s.describe() != text)
         throw Error(what + ": settings '" + text + "' are not understood by " + partial_version());
@@ -348,7 +362,8 @@ void write_partial(const std::string& path, const PartialRender& part) {
         Imf::FrameBuffer fb;
         char* rgb = reinterpret_cast<char*>(const_cast<float*>(mean.rgb.data()));
         for (int c = 0; c < 3; ++c)
-            fb.insert(kRgb[c], Imf::Slice(Imf::FLOAT, rgb + c * sizeof(float), 3 * sizeof(float), 3 * sizeof(float) * size_t(w)));
+            fb.insert(kRgb[c], Imf::Slice(Imf::FLOAT, rgb + c * sizeof(float), 3 * sizeof(float),
+                                          3 * sizeof(float) * size_t(w)));
         for (size_t k = 0; k < names.size(); ++k)
             fb.insert(names[k], Imf::Slice(Imf::UINT, reinterpret_cast<char*>(words[k].data()), sizeof(uint32_t),
                                            sizeof(uint32_t) * size_t(w)));
@@ -360,87 +375,97 @@ void write_partial(const std::string& path, const PartialRender& part) {
 PartialRender read_partial(const std::string& path) {
     PartialRender part;
     try {
-        read_exr_guarded(path, [&](Imf::InputFile& file) {
-        const Imf::Header& header = file.header();
-        Metadata attrs;
-        for (auto it = header.begin(); it != header.end(); ++it)
-            if (auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) attrs[it.name()] = s->value();
-        auto attr = [&](const char* key) {
-            const auto it = attrs.find(key);
-            if (it == attrs.end()) throw Error(path + ": attribute " + key + " is missing; the file is damaged");
-            return it->second;
-        };
-        if (!attrs.count("pathview:partial"))
-            throw Error(path + ": not a partial render (no pathview:partial attribute); expected a file written by "
-                        "`pathview render --samples`, `--resume` or `pathview merge`");
-        if (attrs["pathview:partial"] != kFormat || attr("pathview:version") != partial_version())
-            throw Error(path + ": written by " + attrs["pathview:version"] + " (format " + attrs["pathview:partial"] +
-                        "); this is " + partial_version() + ", which reads only its own partial renders");
+        read_exr_guarded(
+            path,
+            [&](Imf::InputFile& file) {
+                const Imf::Header& header = file.header();
+                Metadata attrs;
+                for (auto it = header.begin(); it != header.end(); ++it)
+                    if (auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute()))
+                        attrs[it.name()] = s->value();
+                auto attr = [&](const char* key) {
+                    const auto it = attrs.find(key);
+                    if (it == attrs.end())
+                        throw Error(path + ": attribute " + key + " is missing; the file is damaged");
+                    return it->second;
+                };
+                if (!attrs.count("pathview:partial"))
+                    throw Error(path +
+                                ": not a partial render (no pathview:partial attribute); expected a file written by "
+                                "`pathview render --samples`, `--resume` or `pathview merge`");
+                if (attrs["pathview:partial"] != kFormat || attr("pathview:version") != partial_version())
+                    throw Error(path + ": written by " + attrs["pathview:version"] + " (format " +
+                                attrs["pathview:partial"] + "); this is " + partial_version() +
+                                ", which reads only its own partial renders");
 
-        const Imath::Box2i dw = header.dataWindow();
-        const long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
-        if (dw.min.x != 0 || dw.min.y != 0 || w <= 0 || h <= 0 || w * h > (1l << 28))
-            throw Error(path + ": data window is not [0, w) x [0, h) or is too large");
-        part.id.version = attrs["pathview:version"];
-        const std::string hash = attr("pathview:scene_hash");
-        part.id.scene_hash = std::strtoull(hash.c_str(), nullptr, 16);
-        if (hash.size() != 16 || hash.find_first_not_of("0123456789abcdef") != std::string::npos)
-            throw Error(path + ": pathview:scene_hash '" + hash + "' is not 16 hex digits");
-        part.id.settings = attr("pathview:settings");
-        parse_settings(part.id.settings, path);
-        part.id.camera = attr("pathview:partial:camera");
-        parse_camera(part.id.camera, path);
-        part.id.width = int(w);
-        part.id.height = int(h);
-        part.ranges = parse_ranges(attr("pathview:samples"), path);
-        for (const auto& [k, v] : attrs)
-            if (!kReservedKeys.count(k)) part.info[k] = v;
+                const Imath::Box2i dw = header.dataWindow();
+                const long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
+                if (dw.min.x != 0 || dw.min.y != 0 || w <= 0 || h <= 0 || w * h > (1l << 28))
+                    throw Error(path + ": data window is not [0, w) x [0, h) or is too large");
+                part.id.version = attrs["pathview:version"];
+                const std::string hash = attr("pathview:scene_hash");
+                part.id.scene_hash = std::strtoull(hash.c_str(), nullptr, 16);
+                if (hash.size() != 16 || hash.find_first_not_of("0123456789abcdef") != std::string::npos)
+                    throw Error(path + ": pathview:scene_hash '" + hash + "' is not 16 hex digits");
+                part.id.settings = attr("pathview:settings");
+                parse_settings(part.id.settings, path);
+                part.id.camera = attr("pathview:partial:camera");
+                parse_camera(part.id.camera, path);
+                part.id.width = int(w);
+                part.id.height = int(h);
+                part.ranges = parse_ranges(attr("pathview:samples"), path);
+                for (const auto& [k, v] : attrs)
+                    if (!kReservedKeys.count(k)) part.info[k] = v;
 
-        // Every channel, as UINT words.
-        const size_t n = size_t(w) * size_t(h);
-        std::vector<std::string> names;
-        for (const Plane& plane : kPlanes)
-            for (int c = 0; c < 3; ++c)
-                for (const char* half : {"_hi.", "_lo."}) names.push_back(std::string(plane.layer) + half + kRgb[c]);
-        for (const CountPlane& cp : kCounts) names.push_back(cp.name);
-        std::vector<std::vector<uint32_t>> words(names.size(), std::vector<uint32_t>(n));
-        Imf::FrameBuffer fb;
-        for (size_t k = 0; k < names.size(); ++k) {
-            const Imf::Channel* ch = header.channels().findChannel(names[k]);
-            if (!ch || ch->type != Imf::UINT) throw Error(path + ": channel " + names[k] + " is missing or not UINT");
-            fb.insert(names[k], Imf::Slice(Imf::UINT, reinterpret_cast<char*>(words[k].data()), sizeof(uint32_t),
-                                           sizeof(uint32_t) * size_t(w)));
-        }
-        file.setFrameBuffer(fb);
-        file.readPixels(dw.min.y, dw.max.y);
-        if (!file.isComplete()) throw Error(path + ": the file is truncated");
-
-        std::vector<FilmPixel> px(n);
-        size_t k = 0;
-        for (const Plane& plane : kPlanes)
-            for (int c = 0; c < 3; ++c, k += 2)
-                for (size_t i = 0; i < n; ++i) {
-                    const uint64_t bits = (uint64_t(words[k][i]) << 32) | words[k + 1][i];
-                    double v;
-                    std::memcpy(&v, &bits, 8);
-                    if (!(std::isfinite(v) && v >= 0.0))
-                        throw Error(path + ": pixel (" + std::to_string(i % size_t(w)) + ", " +
-                                    std::to_string(i / size_t(w)) + ") has a " + plane.layer +
-                                    " that is negative or not finite; the file is damaged");
-                    (px[i].*plane.field)[c] = v;
+                // Every channel, as UINT words.
+                const size_t n = size_t(w) * size_t(h);
+                std::vector<std::string> names;
+                for (const Plane& plane : kPlanes)
+                    for (int c = 0; c < 3; ++c)
+                        for (const char* half : {"_hi.", "_lo."})
+                            names.push_back(std::string(plane.layer) + half + kRgb[c]);
+                for (const CountPlane& cp : kCounts) names.push_back(cp.name);
+                std::vector<std::vector<uint32_t>> words(names.size(), std::vector<uint32_t>(n));
+                Imf::FrameBuffer fb;
+                for (size_t k = 0; k < names.size(); ++k) {
+                    const Imf::Channel* ch = header.channels().findChannel(names[k]);
+                    if (!ch || ch->type != Imf::UINT)
+                        throw Error(path + ": channel " + names[k] + " is missing or not UINT");
+                    fb.insert(names[k], Imf::Slice(Imf::UINT, reinterpret_cast<char*>(words[k].data()),
+                                                   sizeof(uint32_t), sizeof(uint32_t) * size_t(w)));
                 }
-        for (const CountPlane& cp : kCounts) {
-            for (size_t i = 0; i < n; ++i) px[i].*cp.field = words[k][i];
-            ++k;
-        }
-        const uint64_t total = part.sample_count();
-        for (size_t i = 0; i < n; ++i)
-            if (px[i].n > total || px[i].n_even > px[i].n)
-                throw Error(path + ": pixel (" + std::to_string(i % size_t(w)) + ", " + std::to_string(i / size_t(w)) +
+                file.setFrameBuffer(fb);
+                file.readPixels(dw.min.y, dw.max.y);
+                if (!file.isComplete()) throw Error(path + ": the file is truncated");
+
+                std::vector<FilmPixel> px(n);
+                size_t k = 0;
+                for (const Plane& plane : kPlanes)
+                    for (int c = 0; c < 3; ++c, k += 2)
+                        for (size_t i = 0; i < n; ++i) {
+                            const uint64_t bits = (uint64_t(words[k][i]) << 32) | words[k + 1][i];
+                            double v;
+                            std::memcpy(&v, &bits, 8);
+                            if (!(std::isfinite(v) && v >= 0.0))
+                                throw Error(path + ": pixel (" + std::to_string(i % size_t(w)) + ", " +
+                                            std::to_string(i / size_t(w)) + ") has a " + plane.layer +
+                                            " that is negative or not finite; the file is damaged");
+                            (px[i].*plane.field)[c] = v;
+                        }
+                for (const CountPlane& cp : kCounts) {
+                    for (size_t i = 0; i < n; ++i) px[i].*cp.field = words[k][i];
+                    ++k;
+                }
+                const uint64_t total = part.sample_count();
+                for (size_t i = 0; i < n; ++i)
+                    if (px[i].n > total || px[i].n_even > px[i].n)
+                        throw Error(
+                            path + ": pixel (" + std::to_string(i % size_t(w)) + ", " + std::to_string(i / size_t(w)) +
                             ") counts " + std::to_string(px[i].n) + " samples (" + std::to_string(px[i].n_even) +
                             " in the first half), more than its " + std::to_string(total) + "; the file is damaged");
-        part.film = Film::from_pixels(int(w), int(h), std::move(px));
-        }, "a partial render EXR");
+                part.film = Film::from_pixels(int(w), int(h), std::move(px));
+            },
+            "a partial render EXR");
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
@@ -475,7 +500,8 @@ PartialRender merge_partials(const std::vector<PartialRender>& parts, const std:
         };
         if (p.id.version != first.id.version) mismatch("version", p.id.version, first.id.version);
         if (p.id.scene_hash != first.id.scene_hash)
-            mismatch("scene (geometry, materials, environment) hash", hex64(p.id.scene_hash), hex64(first.id.scene_hash));
+            mismatch("scene (geometry, materials, environment) hash", hex64(p.id.scene_hash),
+                     hex64(first.id.scene_hash));
         if (p.id.settings != first.id.settings) mismatch("settings", p.id.settings, first.id.settings);
         if (p.id.camera != first.id.camera) mismatch("camera", p.id.camera, first.id.camera);
         if (p.id.width != first.id.width || p.id.height != first.id.height)
@@ -483,7 +509,8 @@ PartialRender merge_partials(const std::vector<PartialRender>& parts, const std:
                      std::to_string(first.id.width) + "x" + std::to_string(first.id.height));
         for (const SampleRange& r : p.ranges) all.push_back({r, order[k]});
     }
-    std::stable_sort(all.begin(), all.end(), [](const Owned& a, const Owned& b) { return a.range.start < b.range.start; });
+    std::stable_sort(all.begin(), all.end(),
+                     [](const Owned& a, const Owned& b) { return a.range.start < b.range.start; });
     for (size_t i = 1; i < all.size(); ++i)
         if (all[i].range.start < all[i - 1].range.end())
             throw Error(names[all[i].part] + ": sample range " + format_ranges({all[i].range}) + " overlaps " +

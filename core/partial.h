@@ -17,14 +17,14 @@
 // seconds, rays, dropped samples) that a merge sums or keeps.
 #pragma once
 
-#include "core/film.h"
-#include "core/image_io.h"
-#include "core/integrator.h"
-#include "core/environment.h"
-
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "core/environment.h"
+#include "core/film.h"
+#include "core/image_io.h"
+#include "core/integrator.h"
 
 namespace pv {
 
@@ -48,7 +48,7 @@ SampleRange shard_range(uint32_t index, uint32_t shards, uint32_t total);
 
 // What must agree for two partial renders to merge.
 struct RenderIdentity {
-    std::string version;   // partial_version() of the pathview that wrote it
+    std::string version;  // partial_version() of the pathview that wrote it
     uint64_t scene_hash = 0;
     std::string settings;  // RenderSettings::describe()
     std::string camera;    // camera_text()

@@ -4,11 +4,11 @@
 // only on behalf of a request the driver has not taken yet.
 #include "core/progressive.h"
 
-#include "core/error.h"
-#include "core/metrics.h"
-
 #include <algorithm>
 #include <cmath>
+
+#include "core/error.h"
+#include "core/metrics.h"
 
 namespace pv {
 
@@ -134,9 +134,8 @@ void ProgressiveRenderer::drive() {
         bool is_new = false, make_partial = false;
         {
             std::unique_lock<std::mutex> lock(m_mutex);
-            m_wake.wait(lock, [&] {
-                return m_quit || m_pending || (has_request && (should_render() || partial_due()));
-            });
+            m_wake.wait(lock,
+                        [&] { return m_quit || m_pending || (has_request && (should_render() || partial_due())); });
             if (m_quit) return;
             if (m_pending) {
                 request = std::move(*m_pending);

@@ -5,15 +5,15 @@
 // copy. Every snapshot carries the generation of the request it belongs to (restart() returns it).
 #pragma once
 
-#include "core/partial.h"
-#include "core/renderer.h"
-
 #include <chrono>
 #include <condition_variable>
 #include <functional>
 #include <mutex>
 #include <optional>
 #include <thread>
+
+#include "core/partial.h"
+#include "core/renderer.h"
 
 namespace pv {
 
@@ -30,21 +30,21 @@ struct RenderRequest {
 
 // The published state of one accumulation after a completed pass. Images are row-major from the top-left.
 struct Snapshot {
-    uint64_t generation = 0;   // restart() that this accumulation belongs to (0: nothing rendered yet)
-    uint64_t serial = 0;       // increases with every publication
+    uint64_t generation = 0;  // restart() that this accumulation belongs to (0: nothing rendered yet)
+    uint64_t serial = 0;      // increases with every publication
     int width = 0, height = 0;
     std::vector<float> rgb;        // mean radiance, 3 floats per pixel
     std::vector<float> rel_error;  // per-pixel relative RMS error of the mean from the half buffers (0 if < 2 spp)
     std::vector<float> samples;    // accepted samples per pixel
     uint32_t spp = 0;
-    double seconds = 0.0;          // time spent in completed passes since the restart
-    uint64_t rays = 0;             // closest-hit + shadow rays
+    double seconds = 0.0;  // time spent in completed passes since the restart
+    uint64_t rays = 0;     // closest-hit + shadow rays
     uint64_t paths = 0;
     uint64_t dropped = 0;
     double mrays_per_s = 0.0;
-    double ms_per_pass = 0.0;      // the last pass
-    double rel_mse = 0.0;          // Film::estimated_rel_mse(); 0 below 2 spp
-    bool target_reached = false;   // rendering stopped at the target spp / seconds, or every pixel converged
+    double ms_per_pass = 0.0;     // the last pass
+    double rel_mse = 0.0;         // Film::estimated_rel_mse(); 0 below 2 spp
+    bool target_reached = false;  // rendering stopped at the target spp / seconds, or every pixel converged
     // Adaptive sampling: the fraction of pixels still taking samples (1 without it), and the estimated seconds of
     // rendering left until every pixel reaches the noise threshold (< 0: unknown), from a log-log fit of the worst
     // active pixel's filtered error against samples over the last checkpoints, at the current pass time.
@@ -52,14 +52,14 @@ struct Snapshot {
     double seconds_to_threshold = -1.0;
     CameraDesc camera;
     RenderSettings settings;
-    Metadata metadata;             // render_metadata() of this accumulation, for EXR snapshots
+    Metadata metadata;  // render_metadata() of this accumulation, for EXR snapshots
 };
 
 // Details of the surface under a pixel (for picking materials, re-targeting the orbit and focusing).
 struct PickResult {
     uint32_t triangle = kNoIndex;
     uint32_t material = kNoIndex;
-    float distance = 0.f;   // along the unit primary ray
+    float distance = 0.f;  // along the unit primary ray
     vec3 position{0.f};
 };
 
@@ -118,7 +118,7 @@ private:
     mutable std::mutex m_mutex;
     std::condition_variable m_wake;
     std::optional<RenderRequest> m_pending;
-    uint64_t m_generation = 0;   // of the last request posted
+    uint64_t m_generation = 0;  // of the last request posted
     bool m_paused = false;
     bool m_quit = false;
     bool m_partial_requested = false;

@@ -2,9 +2,6 @@
 // lines in the hot loop).
 #include "core/renderer.h"
 
-#include "core/error.h"
-#include "core/tsan.h"
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -12,6 +9,9 @@
 #include <chrono>
 #include <cstdio>
 #include <thread>
+
+#include "core/error.h"
+#include "core/tsan.h"
 
 namespace pv {
 
@@ -143,8 +143,8 @@ Metadata render_metadata(const Renderer& r) {
     m["pathview:spp"] = std::to_string(st.spp);
     m["pathview:seconds"] = std::to_string(st.seconds);
     m["pathview:settings"] = r.settings().describe();
-    m["pathview:camera"] = "--eye " + v3(c.eye) + " --target " + v3(c.target) + " --up " + v3(c.up) +
-                           " --fov " + std::to_string(c.vfov_deg) + " --aperture " + std::to_string(c.aperture) +
+    m["pathview:camera"] = "--eye " + v3(c.eye) + " --target " + v3(c.target) + " --up " + v3(c.up) + " --fov " +
+                           std::to_string(c.vfov_deg) + " --aperture " + std::to_string(c.aperture) +
                            " --focus-distance " + std::to_string(c.focus_distance);
     m["pathview:dropped_samples"] = std::to_string(st.dropped);
     // The film's reference-free relMSE estimate of the mean image (even/odd half buffers, eps 0.01).

@@ -4,6 +4,9 @@
 // the film, so a cancelled pass never leaves samples behind.
 #pragma once
 
+#include <atomic>
+#include <memory>
+
 #include "core/accel.h"
 #include "core/adaptive.h"
 #include "core/camera.h"
@@ -12,19 +15,16 @@
 #include "core/integrator.h"
 #include "core/lights.h"
 
-#include <atomic>
-#include <memory>
-
 namespace pv {
 
 struct RenderStats {
-    uint32_t spp = 0;              // completed passes since restart
-    double seconds = 0.0;          // time spent in completed passes
-    uint64_t rays = 0;             // closest-hit rays
+    uint32_t spp = 0;      // completed passes since restart
+    double seconds = 0.0;  // time spent in completed passes
+    uint64_t rays = 0;     // closest-hit rays
     uint64_t shadow_rays = 0;
     uint64_t paths = 0;
     uint64_t vertices = 0;
-    uint64_t dropped = 0;          // non-finite or negative samples dropped
+    uint64_t dropped = 0;  // non-finite or negative samples dropped
     double last_pass_seconds = 0.0;
 };
 
@@ -59,8 +59,8 @@ public:
     // True once adaptive sampling has stopped every pixel: further passes add nothing.
     bool converged() const { return m_adaptive.enabled() && m_mask.converged(); }
 
-    // Adds one sample per pixel (per active pixel with adaptive sampling). Returns false if `cancel` became true during the pass (the film then holds a
-    // partial pass: call restart() before using it).
+    // Adds one sample per pixel (per active pixel with adaptive sampling). Returns false if `cancel` became true during
+    // the pass (the film then holds a partial pass: call restart() before using it).
     bool render_pass(const std::atomic<bool>* cancel = nullptr);
 
     const Film& film() const { return m_film; }

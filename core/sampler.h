@@ -9,12 +9,12 @@
 //          -1). Use power-of-two spp to get its full benefit.
 #pragma once
 
+#include <optional>
+#include <string>
+
 #include "core/math.h"
 #include "core/rng.h"
 #include "core/sobol.h"
-
-#include <optional>
-#include <string>
 
 namespace pv {
 

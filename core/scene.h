@@ -4,13 +4,13 @@
 // range, every position finite, every triangle of non-zero area.
 #pragma once
 
-#include "core/bsdf.h"
-#include "core/math.h"
-#include "core/texture.h"
-
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "core/bsdf.h"
+#include "core/math.h"
+#include "core/texture.h"
 
 namespace pv {
 
@@ -32,7 +32,7 @@ struct LoadStats {
     size_t dropped_overflow = 0;     // triangles whose area overflows float (edges near 1e18)
     size_t dropped_nontriangle = 0;  // faces tinyobjloader could not triangulate
     size_t default_material_tris = 0;
-    size_t bad_normals = 0;          // corners whose normal was zero/NaN/missing: geometric normal used
+    size_t bad_normals = 0;  // corners whose normal was zero/NaN/missing: geometric normal used
 };
 
 struct Scene {
@@ -41,14 +41,14 @@ struct Scene {
     std::vector<vec3> normals;          // unit shading normals (may be empty)
     std::vector<uvec3> normal_indices;  // per triangle, into normals; empty, or kNoIndex where absent
     std::vector<vec2> uvs;
-    std::vector<uvec3> uv_indices;      // per triangle, into uvs; empty, or kNoIndex where absent
-    std::vector<uint32_t> material_ids; // per triangle, into materials
+    std::vector<uvec3> uv_indices;       // per triangle, into uvs; empty, or kNoIndex where absent
+    std::vector<uint32_t> material_ids;  // per triangle, into materials
     std::vector<Material> materials;
 
-    std::vector<Texture> textures;      // referenced by Material::base_color_texture / alpha_texture
+    std::vector<Texture> textures;  // referenced by Material::base_color_texture / alpha_texture
 
     CameraDesc camera;
-    vec3 background{0.f};   // constant radiance of rays that leave the scene (when there is no environment map)
+    vec3 background{0.f};  // constant radiance of rays that leave the scene (when there is no environment map)
     // Equirectangular environment map (y up; see environment.h): index into textures.
     uint32_t environment_map = kNoIndex;
     float environment_rotation_deg = 0.f;  // about +y
@@ -66,7 +66,7 @@ struct Scene {
     };
     std::vector<Bookmark> bookmarks;
 
-    std::string source;     // the file it came from, for messages
+    std::string source;  // the file it came from, for messages
     LoadStats stats;
     std::vector<std::string> warnings;
     // Index in `warnings` of the "lit by the default sky" notice, when the loader added one: a later

@@ -1,17 +1,16 @@
 // core/scene_file.cpp: JSON scene files (nlohmann-json) on top of the OBJ loader.
 #include "core/scene_file.h"
 
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
 #include "core/environment.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "core/image_io.h"
 #include "core/material_params.h"
 #include "core/obj_loader.h"
-
-#include <nlohmann/json.hpp>
-
-#include <filesystem>
-#include <cstdio>
 
 namespace pv {
 namespace {
@@ -88,7 +87,8 @@ CameraDesc read_camera(const JsonReader& r, const json& j, const Ptr& at, Camera
     if (c.contains("up")) base.up = r.direction(c["up"], at / "up");
     if (c.contains("fov")) base.vfov_deg = r.number(c["fov"], at / "fov", 0.01f, 179.f);
     if (c.contains("aperture")) base.aperture = r.number(c["aperture"], at / "aperture", 0.f, kBig);
-    if (c.contains("focus_distance")) base.focus_distance = r.number(c["focus_distance"], at / "focus_distance", 0.f, kBig);
+    if (c.contains("focus_distance"))
+        base.focus_distance = r.number(c["focus_distance"], at / "focus_distance", 0.f, kBig);
     return base;
 }
 
@@ -132,8 +132,8 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     std::vector<std::string> warnings;
     const JsonReader r{path, &warnings};
     const Ptr root;
-    r.object(j, root, {"obj", "camera", "background", "environment", "sun", "bookmarks", "two_sided_emitters",
-                       "materials"});
+    r.object(j, root,
+             {"obj", "camera", "background", "environment", "sun", "bookmarks", "two_sided_emitters", "materials"});
     if (!j.contains("obj")) r.fail(root / "obj", "missing; expected the OBJ file name");
     const std::string obj = r.string(j["obj"], root / "obj");
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
@@ -148,8 +148,8 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     const json& env = j.contains("environment")
                           ? r.object(j["environment"], root / "environment", {"map", "color", "rotation", "strength"})
                           : none;
-    const json& sun = j.contains("sun") ? r.object(j["sun"], root / "sun", {"direction", "irradiance", "angular_radius"})
-                                        : none;
+    const json& sun =
+        j.contains("sun") ? r.object(j["sun"], root / "sun", {"direction", "irradiance", "angular_radius"}) : none;
     const json& materials = j.contains("materials") ? r.object(j["materials"], root / "materials", {}) : none;
 
     Scene scene = load_obj((dir / obj).string(), opts);
@@ -203,7 +203,6 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
 }
 
 namespace {
-
 
 void use_default_sky_if_unlit(Scene& scene, bool lighting_given) {
     if (lighting_given || scene.has_emitters() || scene.triangles.empty()) return;

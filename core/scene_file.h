@@ -17,9 +17,9 @@
 // "environment" is lit by the default sky (a warning says so). Errors are pv::Error naming the file.
 #pragma once
 
-#include "core/scene.h"
-
 #include <string>
+
+#include "core/scene.h"
 
 namespace pv {
 

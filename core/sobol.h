@@ -5,9 +5,9 @@
 // Owen-scrambled. Values are 0.32 fixed point; floats keep the top 24 bits, so they are in [0, 1), never 1.0.
 #pragma once
 
-#include "core/math.h"
-
 #include <cstdint>
+
+#include "core/math.h"
 
 namespace pv {
 

@@ -3,10 +3,10 @@
 // rounding-error bound, the geometric normal, and the interpolated shading normal.
 #pragma once
 
+#include <cmath>
+
 #include "core/accel.h"
 #include "core/scene.h"
-
-#include <cmath>
 
 namespace pv {
 

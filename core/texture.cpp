@@ -5,10 +5,6 @@
 // (tests/fuzz/fuzz_image.cpp), and OpenImageIO would add a large dependency tree to every build and CI run.
 #include "core/texture.h"
 
-#include "core/error.h"
-#include "core/file_io.h"
-#include "core/image_io.h"
-
 #include <stb_image.h>
 
 #include <algorithm>
@@ -19,6 +15,10 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/image_io.h"
 
 namespace pv {
 namespace {
@@ -120,7 +120,9 @@ namespace {
 
 enum class Format { Png, Jpeg, Gif, Bmp, Psd, Pic, Pnm, Hdr, Exr, Other };
 
-bool starts_with(const std::string& s, const char* magic, size_t n) { return s.size() >= n && s.compare(0, n, magic, n) == 0; }
+bool starts_with(const std::string& s, const char* magic, size_t n) {
+    return s.size() >= n && s.compare(0, n, magic, n) == 0;
+}
 
 Format sniff(const std::string& b) {
     if (starts_with(b, "\x89PNG\r\n\x1a\n", 8)) return Format::Png;
@@ -142,15 +144,24 @@ Format sniff(const std::string& b) {
 // magic number to tell it by, get the loosest bound.
 double pixels_per_byte(Format f) {
     switch (f) {
-    case Format::Png: return 8.0 * 1032.0;
-    case Format::Jpeg: return 1024.0;
-    case Format::Gif: return 4096.0;
-    case Format::Bmp: return 8.0;
-    case Format::Psd: return 128.0;
-    case Format::Pnm: return 1.0;
-    case Format::Hdr: return 16.0;
-    case Format::Exr: return kExrPixelsPerByte;
-    default: return 4096.0;
+        case Format::Png:
+            return 8.0 * 1032.0;
+        case Format::Jpeg:
+            return 1024.0;
+        case Format::Gif:
+            return 4096.0;
+        case Format::Bmp:
+            return 8.0;
+        case Format::Psd:
+            return 128.0;
+        case Format::Pnm:
+            return 1.0;
+        case Format::Hdr:
+            return 16.0;
+        case Format::Exr:
+            return kExrPixelsPerByte;
+        default:
+            return 4096.0;
     }
 }
 
@@ -195,10 +206,12 @@ void validate_hdr(const std::string& path, const std::string& b, bool& truncated
     }
     long h = 0, w = 0;
     char* end = nullptr;
-    if (l.compare(0, 3, "-Y ") != 0) throw Error(path + ": unsupported Radiance HDR layout; expected -Y height +X width");
+    if (l.compare(0, 3, "-Y ") != 0)
+        throw Error(path + ": unsupported Radiance HDR layout; expected -Y height +X width");
     h = std::strtol(l.c_str() + 3, &end, 10);
     while (*end == ' ') ++end;
-    if (std::strncmp(end, "+X ", 3) != 0) throw Error(path + ": unsupported Radiance HDR layout; expected -Y height +X width");
+    if (std::strncmp(end, "+X ", 3) != 0)
+        throw Error(path + ": unsupported Radiance HDR layout; expected -Y height +X width");
     w = std::strtol(end + 3, nullptr, 10);
     check_declared_size(path, w, h, n, pixels_per_byte(Format::Hdr));
     const uint64_t flat_bytes = 4ull * uint64_t(w) * uint64_t(h);
@@ -235,7 +248,8 @@ void validate_hdr(const std::string& path, const std::string& b, bool& truncated
                     throw Error(path + ": corrupt Radiance HDR: a run-length count of 0 in scanline " +
                                 std::to_string(j + 1));
                 if (count > w - i)
-                    throw Error(path + ": corrupt Radiance HDR: a run passes the end of scanline " + std::to_string(j + 1));
+                    throw Error(path + ": corrupt Radiance HDR: a run passes the end of scanline " +
+                                std::to_string(j + 1));
                 const size_t need = run ? 1 : size_t(count);
                 if (pos + need > n) throw ends();
                 pos += need;
@@ -273,7 +287,8 @@ Texture Texture::load(const std::string& path, bool alpha_only, std::vector<std:
     return decode(read_regular_file(path, max_bytes, what), path, alpha_only, warnings);
 }
 
-Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_only, std::vector<std::string>* warnings) {
+Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_only,
+                        std::vector<std::string>* warnings) {
     const Format format = sniff(bytes);
     std::vector<vec4> texels;
     int w = 0, h = 0, n = 0;

@@ -5,10 +5,10 @@
 // and decoded per lookup through a 256-entry table: the same values, a quarter of the memory traffic.
 #pragma once
 
-#include "core/math.h"
-
 #include <string>
 #include <vector>
+
+#include "core/math.h"
 
 namespace pv {
 
@@ -33,7 +33,7 @@ public:
     static Texture decode(std::string bytes, const std::string& name, bool alpha_only = false,
                           std::vector<std::string>* warnings = nullptr);
 
-    vec4 lookup(vec2 uv) const;   // bilinear, repeat wrap
+    vec4 lookup(vec2 uv) const;  // bilinear, repeat wrap
     int width() const { return m_width; }
     int height() const { return m_height; }
     bool has_alpha() const { return m_has_alpha; }

@@ -1,11 +1,12 @@
 // microbench/denoise_atrous.cpp: the interactive denoiser's time per 512x512 frame of the built-in Cornell box
 // (4 spp, first-hit features), on the calling thread only. Run: build/microbench/pathview_microbench_denoise
-#include "core/aov.h"
 #include "core/denoise_atrous.h"
-#include "core/renderer.h"
-#include "core/scene_file.h"
 
 #include <benchmark/benchmark.h>
+
+#include "core/aov.h"
+#include "core/renderer.h"
+#include "core/scene_file.h"
 
 namespace {
 

@@ -5,13 +5,13 @@
 // Reports rays/s, BVH build time and bytes per primitive pair.
 #include <benchmark/benchmark.h>
 #include <embree3/rtcore.h>
-#include <glm/glm.hpp>
 #include <pmmintrin.h>
 #include <xmmintrin.h>
 
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <glm/glm.hpp>
 #include <random>
 #include <vector>
 

@@ -1,10 +1,10 @@
 // tests/test_adaptive.cpp: adaptive sampling and the stratified sample-count schedule (core/adaptive.h, issue 13).
+#include <gtest/gtest.h>
+
 #include "core/adaptive.h"
 #include "core/renderer.h"
 #include "support/scenes.h"
 #include "support/stats.h"
-
-#include <gtest/gtest.h>
 
 namespace pv {
 namespace {
@@ -26,7 +26,8 @@ struct HalfScene {
         Material m;
         m.bsdf = Lambertian{vec3(0.7f)};
         const uint32_t id = test::add_material(*scene, m);
-        test::add_quad(*scene, vec3(-2.f, -2.f, 0.f), vec3(0.f, -2.f, 0.f), vec3(0.f, 2.f, 0.f), vec3(-2.f, 2.f, 0.f), id);
+        test::add_quad(*scene, vec3(-2.f, -2.f, 0.f), vec3(0.f, -2.f, 0.f), vec3(0.f, 2.f, 0.f), vec3(-2.f, 2.f, 0.f),
+                       id);
         scene->background = vec3(1.f);
         camera.eye = vec3(0.f, 0.f, 2.f);
         camera.target = vec3(0.f);
@@ -93,7 +94,8 @@ TEST(Adaptive, BiasBelowTheNoiseOnTheCornellBox) {
         const test::PixelStats st = test::PixelStats::from_film(r.film());
         adaptive.add(st.total_mean());
         s.seed = 2000 + seed;
-        const test::PixelStats ps = test::PixelStats::from_film(test::render_with_renderer(scene, scene->camera, s, w, h, 128));
+        const test::PixelStats ps =
+            test::PixelStats::from_film(test::render_with_renderer(scene, scene->camera, s, w, h, 128));
         plain.add(ps.total_mean());
     }
     const double z = (adaptive.mean - plain.mean) /

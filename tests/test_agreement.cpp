@@ -10,16 +10,16 @@
 //    and MIS must be at least about as good as the better strategy on each plate:
 //    relMSE(MIS) <= 1.1 min(relMSE(NEE), relMSE(BSDF)), relMSE = mean over the plate's pixels of
 //    Var(pixel mean) / (ref^2 + 0.01) averaged over several seeds (the estimators are unbiased, so MSE = variance).
+#include <gtest/gtest.h>
+
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
-
-#include <gtest/gtest.h>
 
 namespace pv {
 namespace {
 
-test::PixelStats render_stats(std::shared_ptr<const Scene> scene, const CameraDesc& cam, const RenderSettings& s,
-                              int w, int h, int spp) {
+test::PixelStats render_stats(std::shared_ptr<const Scene> scene, const CameraDesc& cam, const RenderSettings& s, int w,
+                              int h, int spp) {
     return test::PixelStats::from_film(test::render_with_renderer(std::move(scene), cam, s, w, h, spp, 2));
 }
 
@@ -175,12 +175,12 @@ TEST(AgreementVeach, RegionMeansAgreeAcrossEstimators) {
     const int w = 24, h = 15;
     const auto region = v.regions(w, h);
     for (int g = 0; g < 16; ++g) ASSERT_GT(std::count(region.begin(), region.end(), g), 2) << "region " << g;
-    const auto bsdf = region_stats(render_stats(v.scene, v.camera, make_settings(false, false, true, 31), w, h, 2048),
-                                   region, 16);
-    const auto nee = region_stats(render_stats(v.scene, v.camera, make_settings(true, false, true, 32), w, h, 2048),
-                                  region, 16);
-    const auto mis = region_stats(render_stats(v.scene, v.camera, make_settings(true, true, true, 33), w, h, 1024),
-                                  region, 16);
+    const auto bsdf =
+        region_stats(render_stats(v.scene, v.camera, make_settings(false, false, true, 31), w, h, 2048), region, 16);
+    const auto nee =
+        region_stats(render_stats(v.scene, v.camera, make_settings(true, false, true, 32), w, h, 2048), region, 16);
+    const auto mis =
+        region_stats(render_stats(v.scene, v.camera, make_settings(true, true, true, 33), w, h, 1024), region, 16);
     const double family = 3.0 * 16 * 3;
     EXPECT_EQ(compare_regions(mis, bsdf, family), "") << "MIS vs BSDF-only";
     EXPECT_EQ(compare_regions(mis, nee, family), "") << "MIS vs NEE";
@@ -197,7 +197,8 @@ TEST(AgreementVeach, MisIsAtLeastAsGoodAsTheBetterStrategyPerPlate) {
     for (int s = 0; s < seeds; ++s)
         for (int m = 0; m < 3; ++m) {
             const bool nee = m != 1, mis = m == 2;
-            images[m].push_back(render_stats(v.scene, v.camera, make_settings(nee, mis, true, 100 + 3 * s + m), w, h, spp));
+            images[m].push_back(
+                render_stats(v.scene, v.camera, make_settings(nee, mis, true, 100 + 3 * s + m), w, h, spp));
             for (size_t i = 0; i < ref.size(); ++i) ref[i] += images[m].back().mean[i] / (3.0 * seeds);
         }
     for (int m = 0; m < 3; ++m)
@@ -215,9 +216,8 @@ TEST(AgreementVeach, MisIsAtLeastAsGoodAsTheBetterStrategyPerPlate) {
         }
     for (int j = 0; j < 4; ++j) {
         const double best = std::min(rel[0][j], rel[1][j]);
-        EXPECT_LE(rel[2][j], 1.1 * best) << "plate " << j << " (alpha " << VeachScene::kAlpha[j]
-                                         << "): relMSE NEE " << rel[0][j] << ", BSDF " << rel[1][j] << ", MIS "
-                                         << rel[2][j];
+        EXPECT_LE(rel[2][j], 1.1 * best) << "plate " << j << " (alpha " << VeachScene::kAlpha[j] << "): relMSE NEE "
+                                         << rel[0][j] << ", BSDF " << rel[1][j] << ", MIS " << rel[2][j];
         std::printf("[ info ] Veach plate %d (alpha %.2f): relMSE NEE %.4g, BSDF %.4g, MIS %.4g\n", j,
                     double(VeachScene::kAlpha[j]), rel[0][j], rel[1][j], rel[2][j]);
     }

@@ -5,10 +5,10 @@
 //    scattering events, L_D = Le (1 - rho^(D+1)) / (1 - rho), for every light_sampling/mis/rr combination.
 // Statistical bounds: |mean - expected| <= k * stderr, stderr from the sample variance, k Sidak-corrected over
 // the number of statistical tests in the family (alpha = 0.01).
+#include <gtest/gtest.h>
+
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
-
-#include <gtest/gtest.h>
 
 namespace pv {
 namespace {
@@ -193,8 +193,8 @@ TEST_P(Enclosure, RadianceMatchesClosedForm) {
     for (int ch = 0; ch < 3; ++ch) {
         const double se = mom[ch].stderr_of_mean();
         EXPECT_LE(std::fabs(mom[ch].mean - expected), k * se + 1e-5 * expected)
-            << "channel " << ch << ": mean " << mom[ch].mean << ", expected " << expected << ", stderr " << se
-            << ", k " << k;
+            << "channel " << ch << ": mean " << mom[ch].mean << ", expected " << expected << ", stderr " << se << ", k "
+            << k;
     }
 }
 

@@ -2,14 +2,13 @@
 // box's back wall; a mirror and a glass interface in front of coloured walls, whose Fresnel split is checked
 // against a binomial bound), the film's statistics layers against hand-computed sums, and the multi-layer EXR
 // round trip with its error for a mis-sized layer.
-#include "core/aov.h"
-
-#include "core/error.h"
-#include "tests/support/scenes.h"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
+
+#include "core/aov.h"
+#include "core/error.h"
+#include "tests/support/scenes.h"
 
 namespace pv {
 namespace {
@@ -62,10 +61,10 @@ TEST(Aov, MirrorFollowsTheChain) {
     Sampler sampler(0, SamplerKind::Independent);
     sampler.start(uvec2(0), 0);
     const FeatureSample f = trace_features(tracer.view(), make_ray(vec3(0.f, 0.f, 5.f), vec3(0.f, 0.f, -1.f)), sampler);
-    EXPECT_NEAR(f.depth, 15.f, 1e-3f);                  // 5 to the mirror, 10 back to the red wall
-    EXPECT_NEAR(f.albedo.x, 0.5f, 1e-6f);               // red, tinted by the mirror's reflectance
+    EXPECT_NEAR(f.depth, 15.f, 1e-3f);     // 5 to the mirror, 10 back to the red wall
+    EXPECT_NEAR(f.albedo.x, 0.5f, 1e-6f);  // red, tinted by the mirror's reflectance
     EXPECT_EQ(f.albedo.y, 0.f);
-    EXPECT_NEAR(f.normal.z, -1.f, 1e-5f);               // the red wall's normal, facing the reflected ray
+    EXPECT_NEAR(f.normal.z, -1.f, 1e-5f);  // the red wall's normal, facing the reflected ray
 }
 
 TEST(Aov, GlassSplitsByFresnel) {

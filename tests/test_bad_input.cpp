@@ -1,6 +1,14 @@
 // tests/test_bad_input.cpp: golden tests of malformed input (TEST-CATALOG 5.1). Each file in tests/data gives
 // pv::Error naming the file and line, or loads with the documented warning; none crashes. Then the CLI:
 // `pathview render` with a missing scene or an unwritable output exits non-zero with one line naming the file.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/obj_loader.h"
@@ -8,15 +16,6 @@
 #include "core/scene_file.h"
 #include "tests/support/cli.h"
 #include "tests/support/scenes.h"
-
-#include <gtest/gtest.h>
-
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace pv {
 namespace {
@@ -56,8 +55,9 @@ TEST(BadInput, OutOfRangeFaceIndex) {
 
 TEST(BadInput, WrappedFaceIndex) {
     // 4294967298 = 2^32 + 2 would silently wrap to 2 in tinyobjloader.
-    EXPECT_EQ(load_error("wrapped_index.obj"),
-              data("wrapped_index.obj") + ":4: face index 4294967298 is out of range; expected an index between 1 and 3");
+    EXPECT_EQ(
+        load_error("wrapped_index.obj"),
+        data("wrapped_index.obj") + ":4: face index 4294967298 is out of range; expected an index between 1 and 3");
 }
 
 TEST(BadInput, RelativeIndexBeforeFirstVertex) {
@@ -81,7 +81,8 @@ TEST(BadInput, NanVertexDropsItsTriangleWithLine) {
     const Scene s = load_scene(data("v_nan.obj"));
     EXPECT_EQ(s.triangles.size(), 1u);
     EXPECT_EQ(s.stats.dropped_nonfinite, 1u);
-    EXPECT_TRUE(has_warning(s, data("v_nan.obj") + ":4: vertex 'v nan 1 0' is not finite or beyond 1e18; 1 triangle(s)"))
+    EXPECT_TRUE(
+        has_warning(s, data("v_nan.obj") + ":4: vertex 'v nan 1 0' is not finite or beyond 1e18; 1 triangle(s)"))
         << all_warnings(s);
 }
 
@@ -211,7 +212,8 @@ TEST(BadInputCli, MissingSceneExitsNonZeroWithOneLine) {
 }
 
 TEST(BadInputCli, MalformedSceneExitsNonZeroWithFileAndLine) {
-    const RunResult r = run_pathview("render '" + data("zero_index.obj") + "' --spp 1 -q -o /tmp/pathview_cli_unused.exr");
+    const RunResult r =
+        run_pathview("render '" + data("zero_index.obj") + "' --spp 1 -q -o /tmp/pathview_cli_unused.exr");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(line_count(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find(data("zero_index.obj") + ":4:"), std::string::npos) << r.err;
@@ -246,9 +248,11 @@ TEST(BadInputCli, BenchChecksItsOutputsBeforeMeasuring) {
     const fs::path ref = fs::temp_directory_path() / ("pathview_cli_ref0_" + std::to_string(::getpid()) + ".exr");
     std::error_code ec;
     fs::remove(ref, ec);
-    const RunResult r = run_pathview("bench --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind --seeds 1 "
-                                     "--budget 0.001 --max-spp 1 -q --csv /nonexistent-pathview-dir/b.csv --svg '' "
-                                     "--save-reference '" + ref.string() + "'");
+    const RunResult r = run_pathview(
+        "bench --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind --seeds 1 "
+        "--budget 0.001 --max-spp 1 -q --csv /nonexistent-pathview-dir/b.csv --svg '' "
+        "--save-reference '" +
+        ref.string() + "'");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("/nonexistent-pathview-dir/b.csv"), std::string::npos) << r.err;
@@ -258,7 +262,8 @@ TEST(BadInputCli, BenchChecksItsOutputsBeforeMeasuring) {
 
 TEST(BadInputCli, BenchAppliesTheEnvironmentAndSunOverrides) {
     const fs::path ref = fs::temp_directory_path() / ("pathview_cli_ref_" + std::to_string(::getpid()) + ".exr");
-    const std::string bench = "bench '" + data("crlf.obj") + "' --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind "
+    const std::string bench = "bench '" + data("crlf.obj") +
+                              "' --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind "
                               "--seeds 1 --budget 0.001 --max-spp 1 --csv '' --svg '' -q --save-reference '" +
                               ref.string() + "' --environment 0";
     for (const bool sun : {false, true}) {

@@ -1,14 +1,14 @@
 // tests/test_bsdf_fast.cpp: the fast paths of core/warp.h and core/bsdf.h against straightforward references in
 // double (the formulas they replaced): the polynomial sin/cos (stated error bounds), the concentric disk map,
 // the inline Lambertian dispatch (two-sided rules, edge cases) and the one-division GGX eval/pdf (rel 1e-5).
-#include "core/bsdf.h"
-#include "core/rng.h"
-#include "core/warp.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+
+#include "core/bsdf.h"
+#include "core/rng.h"
+#include "core/warp.h"
 
 namespace pv {
 namespace {
@@ -154,7 +154,7 @@ TEST(FastBsdf, GlossyEvalAndPdfMatchTextbookForm) {
         for (int i = 0; i < 50000; ++i) {
             vec3 wo = square_to_uniform_sphere(vec2(g.next_float(), g.next_float()));
             vec3 wi = square_to_uniform_sphere(vec2(g.next_float(), g.next_float()));
-            if (i % 4 == 0) wo = glm::normalize(vec3(wo.x, wo.y, 1e-3f * wo.z));  // near grazing
+            if (i % 4 == 0) wo = glm::normalize(vec3(wo.x, wo.y, 1e-3f * wo.z));                     // near grazing
             if (i % 8 == 1) wi = glm::normalize(wo * vec3(1.f, 1.f, 1.f + 1e-3f * g.next_float()));  // h near z
             const GlossyRef r = glossy_reference(gl, wo, wi);
             const vec3 f = eval(b, wo, wi);

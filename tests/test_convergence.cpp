@@ -1,13 +1,13 @@
 // tests/test_convergence.cpp: the shipped sunlit room (assets/sunlit-room: lit only through its window) and the
 // Russian roulette policy's unbiasedness there (issue 13). Bounds come from the sample variance with
 // Sidak-corrected k (tests/support/stats.h); seeds are fixed.
-#include "core/scene_file.h"
-#include "support/scenes.h"
-#include "support/stats.h"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
+
+#include "core/scene_file.h"
+#include "support/scenes.h"
+#include "support/stats.h"
 
 namespace pv {
 namespace {

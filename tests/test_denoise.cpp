@@ -1,5 +1,6 @@
-// tests/test_denoise.cpp: the NFOR and a-trous denoisers (core/denoise_nfor.h, core/denoise_atrous.h) on synthetic films whose truth is known: two
-// flat regions split by an edge that the albedo feature marks, with uniform noise of mean equal to the truth.
+// tests/test_denoise.cpp: the NFOR and a-trous denoisers (core/denoise_nfor.h, core/denoise_atrous.h) on synthetic
+// films whose truth is known: two flat regions split by an edge that the albedo feature marks, with uniform noise of
+// mean equal to the truth.
 //  * Error: an 11 x 11 regression window averages up to 121 pixels, so on flat regions the relMSE must fall at
 //    least 5x below the noisy mean's (ideal 1/121; 5x leaves room for the edge and the image border).
 //  * Edges: no pixel of the columns either side of the edge moves toward the other side by 10% of the step, and
@@ -7,12 +8,12 @@
 //  * Pixels with fewer than 2 samples in a half are passed through unchanged (NFOR).
 //  * The a-trous filter (five 5x5 passes, up to 25 x 5 taps but stopped at 4 standard deviations of colour) must
 //    lower the relMSE at least 3x and keep the edge by the same criterion.
+#include <gtest/gtest.h>
+
 #include "core/denoise_atrous.h"
 #include "core/denoise_nfor.h"
 #include "core/metrics.h"
 #include "core/rng.h"
-
-#include <gtest/gtest.h>
 
 namespace pv {
 namespace {

@@ -2,13 +2,13 @@
 // Lambert's formula for the irradiance from a uniform polygon:
 //     E = (L / 2) |sum_i acos(v_i . v_i+1) (n . normalize(v_i x v_i+1))|,  pixel = (rho / pi) E,
 // with v_i the unit vectors from the receiver point to the polygon's vertices. max_depth 1 (direct only), with
-// NEE only, BSDF sampling only and MIS, with the independent and the Sobol sampler. Camera rays go through pixel centres so each pixel has one receiver
-// point and an exact reference. Pass: per-pixel |mean - ref| <= k stderr (Sidak over every pixel of every
-// render) and the image mean within k stderr (Sidak over the renders).
+// NEE only, BSDF sampling only and MIS, with the independent and the Sobol sampler. Camera rays go through pixel
+// centres so each pixel has one receiver point and an exact reference. Pass: per-pixel |mean - ref| <= k stderr (Sidak
+// over every pixel of every render) and the image mean within k stderr (Sidak over the renders).
+#include <gtest/gtest.h>
+
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
-
-#include <gtest/gtest.h>
 
 namespace pv {
 namespace {
@@ -27,7 +27,8 @@ double lambert_polygon_irradiance(const std::vector<dvec3>& poly, dvec3 x, dvec3
 // gives pi F = 0.38440 below a corner and 1.53762 below the centre of the 2a x 2b rectangle (L = 1).
 TEST(DirectLight, LambertFormulaMatchesRectangleClosedForm) {
     const dvec3 n(0, 0, 1);
-    const double corner = lambert_polygon_irradiance({{0, 0, 1.5}, {1, 0, 1.5}, {1, 2, 1.5}, {0, 2, 1.5}}, dvec3(0), n, 1);
+    const double corner =
+        lambert_polygon_irradiance({{0, 0, 1.5}, {1, 0, 1.5}, {1, 2, 1.5}, {0, 2, 1.5}}, dvec3(0), n, 1);
     EXPECT_NEAR(corner, 0.384404, 2e-6);
     const double centre =
         lambert_polygon_irradiance({{-1, -2, 1.5}, {1, -2, 1.5}, {1, 2, 1.5}, {-1, 2, 1.5}}, dvec3(0), n, 1);
@@ -91,8 +92,8 @@ TEST(DirectLight, PlaneUnderPolygonLightMatchesLambertFormula) {
                 ASSERT_TRUE(tracer.accel().intersect(r, hit));
                 ASSERT_LT(hit.prim, 2u) << "every pixel must see the plane";
                 const dvec3 p = dvec3(r.o) + double(hit.t) * dvec3(r.d);
-                ref[size_t(y) * kW + x] = kRho / M_PI * lambert_polygon_irradiance(poly, dvec3(p.x, p.y, 0.0),
-                                                                                  dvec3(0, 0, 1), kLe);
+                ref[size_t(y) * kW + x] =
+                    kRho / M_PI * lambert_polygon_irradiance(poly, dvec3(p.x, p.y, 0.0), dvec3(0, 0, 1), kLe);
             }
         for (const SamplerKind kind : samplers) {
             for (const Mode& mode : modes) {

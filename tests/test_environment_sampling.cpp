@@ -3,17 +3,17 @@
 // within its bound, agreement with the libm texel away from edges, pdf proportional to eval per texel, uv-space
 // chi-square for odd maps: all-zero rows, one bright texel, 1 x N and N x 1). Seeds are fixed; chi-square levels
 // are Sidak-corrected over the cases of each test.
-#include "core/distribution.h"
-#include "core/environment.h"
-#include "core/rng.h"
-#include "support/stats.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <string>
+
+#include "core/distribution.h"
+#include "core/environment.h"
+#include "core/rng.h"
+#include "support/stats.h"
 
 namespace pv {
 namespace {
@@ -70,8 +70,13 @@ std::vector<std::vector<float>> weight_cases() {
     one_hot[11] = 3.f;
     std::vector<float> tiny(50, 1.f);
     tiny[7] = 1e-7f;
-    return {random_weights(5, 1), random_weights(64, 2), random_weights(1000, 3), one_hot, {2.f},
-            std::vector<float>(9, 1.f), tiny};
+    return {random_weights(5, 1),
+            random_weights(64, 2),
+            random_weights(1000, 3),
+            one_hot,
+            {2.f},
+            std::vector<float>(9, 1.f),
+            tiny};
 }
 
 // Every uniform on a grid of M = 4096 n midpoints goes through the table: each cell receives its weight's share of

@@ -8,20 +8,20 @@
 //    spp) or kLowSppFactor (below).
 // The estimate is unbiased for the variance of the mean only when the halves are independent: with one Sobol net
 // over all samples, 2k and 2k+1 are antithetic and the estimate runs high by a factor that grows with spp.
-#include "core/metrics.h"
-#include "core/renderer.h"
-#include "tests/support/scenes.h"
-
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
+#include "core/metrics.h"
+#include "core/renderer.h"
+#include "tests/support/scenes.h"
+
 namespace pv {
 namespace {
 
-constexpr int kSize = 32;             // image width and height
-constexpr uint32_t kRefSpp = 8192;    // reference: 8x the largest tested spp; its noise is subtracted
-constexpr int kSeeds = 4;             // replicas per configuration
+constexpr int kSize = 32;           // image width and height
+constexpr uint32_t kRefSpp = 8192;  // reference: 8x the largest tested spp; its noise is subtracted
+constexpr int kSeeds = 4;           // replicas per configuration
 constexpr uint32_t kMinSpp = 16, kMaxSpp = 1024;
 // Agreement factors between the mean estimate and the mean true error. From 128 spp on, within 1.3: the mean over
 // 4 seeds of a 32x32 image's error has a relative spread of about 5% (per-seed values), and measured ratios are

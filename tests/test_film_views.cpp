@@ -1,9 +1,9 @@
 // tests/test_film_views.cpp: Film::views_into (what the viewer's snapshots show) agrees with Film's own mean and
 // error estimate, so the published figures are the film's, not a second computation.
+#include <gtest/gtest.h>
+
 #include "core/film.h"
 #include "core/rng.h"
-
-#include <gtest/gtest.h>
 
 namespace pv {
 

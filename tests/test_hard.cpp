@@ -5,6 +5,10 @@
 //  * degenerate, sliver and huge triangles; a zero-area emitter is never sampled;
 //  * NaN/Inf injection: the image stays finite and the dropped count equals the samples that hit the bad emitter;
 //  * long accumulation in the film.
+#include <gtest/gtest.h>
+
+#include <chrono>
+
 #include "core/bsdf.h"
 #include "core/lights.h"
 #include "core/obj_loader.h"
@@ -12,10 +16,6 @@
 #include "core/warp.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
-
-#include <gtest/gtest.h>
-
-#include <chrono>
 
 namespace pv {
 namespace {
@@ -160,8 +160,9 @@ TEST(ExtremeInputs, LightSetAtDegenerateReferencePoints) {
     const LightSet lights(scene, scene.materials);
     const float us[] = {0.f, 0x1p-24f, 0.5f, kOneMinusEpsilon};
     // On the light's plane (cos 0), on a vertex and on an edge (distance 0), far away, and a regular point.
-    const vec3 refs[] = {vec3(2, 1, 0.5f), vec3(0, 1, 0), vec3(0.5f, 1, 0), vec3(0.5f, 0.f, 0.5f),
-                         vec3(0.5f, 1e-30f + 1.f, 0.5f), vec3(1e30f, -1e30f, 0.f)};
+    const vec3 refs[] = {
+        vec3(2, 1, 0.5f),        vec3(0, 1, 0), vec3(0.5f, 1, 0), vec3(0.5f, 0.f, 0.5f), vec3(0.5f, 1e-30f + 1.f, 0.5f),
+        vec3(1e30f, -1e30f, 0.f)};
     for (const vec3& ref : refs)
         for (float a : us)
             for (float b : us)
@@ -373,9 +374,9 @@ TEST(DegenerateGeometry, ZeroAreaEmitterIsNeverSampled) {
     Material light;
     light.emission = vec3(10.f);
     scene.materials.push_back(light);
-    scene.add_triangle(vec3(0, 1, 0), vec3(1, 1, 0), vec3(2, 1, 0), 0);      // collinear
-    scene.add_triangle(vec3(3, 1, 3), vec3(3, 1, 3), vec3(3, 2, 3), 0);      // coincident vertices
-    scene.add_triangle(vec3(0, 2, 0), vec3(0, 2, 1), vec3(1, 2, 0), 0);      // a real light, facing down
+    scene.add_triangle(vec3(0, 1, 0), vec3(1, 1, 0), vec3(2, 1, 0), 0);  // collinear
+    scene.add_triangle(vec3(3, 1, 3), vec3(3, 1, 3), vec3(3, 2, 3), 0);  // coincident vertices
+    scene.add_triangle(vec3(0, 2, 0), vec3(0, 2, 1), vec3(1, 2, 0), 0);  // a real light, facing down
     const LightSet lights(scene, scene.materials);
     EXPECT_EQ(lights.size(), 1u);
     EXPECT_EQ(lights.pmf(0), 0.f);

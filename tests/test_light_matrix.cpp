@@ -8,19 +8,19 @@
 // (independent sampler), k Sidak-corrected over all cells. A cell is skipped only where its estimator cannot see the
 // light at this budget: BSDF-only needs about 100 expected light hits (N * E / (pi Le) for cosine sampling), otherwise
 // its sample variance says nothing. The targeted tests of each defect follow the matrix.
-#include "core/distribution.h"
-#include "core/environment.h"
-#include "core/lights.h"
-#include "core/rng.h"
-#include "tests/support/scenes.h"
-#include "tests/support/stats.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <sstream>
+
+#include "core/distribution.h"
+#include "core/environment.h"
+#include "core/lights.h"
+#include "core/rng.h"
+#include "tests/support/scenes.h"
+#include "tests/support/stats.h"
 
 namespace pv {
 namespace {

@@ -1,13 +1,12 @@
 // tests/test_material_params.cpp: the one parameters <-> Bsdf conversion (core/material_params.h) keeps core/bsdf.h's
 // promises for any input, and round-trips what it accepts.
-#include "core/material_params.h"
-
-#include "core/scene_file.h"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <limits>
+
+#include "core/material_params.h"
+#include "core/scene_file.h"
 
 namespace pv {
 namespace {

@@ -1,13 +1,13 @@
 // tests/test_progressive.cpp: the asynchronous driver's restart logic, without a window. Suites start with
 // "Progressive" so they are part of the TSan subset. Small images keep each test well under a second.
-#include "core/partial.h"
-#include "core/progressive.h"
-#include "core/scene_file.h"
-
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <thread>
+
+#include "core/partial.h"
+#include "core/progressive.h"
+#include "core/scene_file.h"
 
 namespace pv {
 namespace {

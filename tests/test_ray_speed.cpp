@@ -2,14 +2,14 @@
 // as 8-bit codes looks up the same values as the floats they decode to, with the same repeat wrap at any uv; alpha
 // cut-outs follow the renderer's edited materials (issue 10, item 5) with opaque and cut-out triangles split into
 // two Embree geometries.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
 #include "core/renderer.h"
 #include "core/rng.h"
 #include "core/texture.h"
 #include "support/scenes.h"
-
-#include <gtest/gtest.h>
-
-#include <cstring>
 
 namespace pv {
 namespace {
@@ -41,8 +41,9 @@ TEST(TextureStorage, EightBitCodesLookUpAsTheFloatsTheyDecodeTo) {
     EXPECT_EQ(coded.bytes(), texels.size() * 4) << "every texel is an 8-bit code: 4 bytes each";
     // Every one of the 256 codes in every channel is recognised.
     std::vector<vec4> all(256);
-    for (int c = 0; c < 256; ++c) all[size_t(c)] = vec4(srgb_code_to_linear(c), srgb_code_to_linear(255 - c),
-                                                        srgb_code_to_linear(c), float(255 - c) / 255.f);
+    for (int c = 0; c < 256; ++c)
+        all[size_t(c)] =
+            vec4(srgb_code_to_linear(c), srgb_code_to_linear(255 - c), srgb_code_to_linear(c), float(255 - c) / 255.f);
     EXPECT_EQ(Texture(16, 16, all).bytes(), all.size() * 4);
     // The same colours with one alpha that no byte gives: kept as floats.
     std::vector<vec4> odd = texels;
@@ -57,8 +58,8 @@ TEST(TextureStorage, EightBitCodesLookUpAsTheFloatsTheyDecodeTo) {
         if (i % 7 == 0) uv = vec2(float(i % w) / float(w), float(i % h) / float(h));
         const vec4 a = coded.lookup(uv), b = floats.lookup(uv), r = reference_lookup(texels, w, h, uv);
         for (int c = 0; c < 4; ++c) {
-            EXPECT_TRUE(same_bits(a[c], r[c])) << "uv " << uv.x << "," << uv.y << " channel " << c << ": " << a[c]
-                                               << " vs " << r[c];
+            EXPECT_TRUE(same_bits(a[c], r[c]))
+                << "uv " << uv.x << "," << uv.y << " channel " << c << ": " << a[c] << " vs " << r[c];
             if (c < 3) {
                 EXPECT_TRUE(same_bits(b[c], r[c])) << "float storage, uv " << uv.x << "," << uv.y;
             }
@@ -138,7 +139,8 @@ TEST(AlphaEdits, SplitGeometryReportsSceneTriangles) {
     const int n = 9;
     for (int i = 0; i < n; ++i) {
         const float x = 3.f * float(i);
-        test::add_quad(scene, vec3(x, -1, 1), vec3(x, 1, 1), vec3(x + 2, 1, 1), vec3(x + 2, -1, 1), uint32_t(i % 3 == 1));
+        test::add_quad(scene, vec3(x, -1, 1), vec3(x, 1, 1), vec3(x + 2, 1, 1), vec3(x + 2, -1, 1),
+                       uint32_t(i % 3 == 1));
     }
     const Accel accel(scene);
     const ScopedFtzDaz ftz;

@@ -1,12 +1,12 @@
 // tests/test_raybench.cpp: the ray-rate ceiling's arithmetic and the minimal kernel's bookkeeping (rates
 // themselves are timings, measured by `pathview bench --rays`, never asserted here).
-#include "app/bench/raybench.h"
-#include "core/renderer.h"
-#include "tests/support/scenes.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "app/bench/raybench.h"
+#include "core/renderer.h"
+#include "tests/support/scenes.h"
 
 namespace pv {
 namespace {
@@ -36,7 +36,8 @@ TEST(RayBench, MinimalKernelTracesWholePassesOfItsWalk) {
     o.threads = 2;
     o.seconds_per_kind = 0.01;
     o.walk_depth = 3;
-    const MinimalKernelRate mk = measure_minimal_kernel(r.scene(), r.accel(), r.lights(), r.environment(), r.camera(), o);
+    const MinimalKernelRate mk =
+        measure_minimal_kernel(r.scene(), r.accel(), r.lights(), r.environment(), r.camera(), o);
     ASSERT_GT(mk.mix.camera, 0.0);
     const double passes = mk.mix.camera / (16.0 * 16.0);
     EXPECT_EQ(passes, std::floor(passes));  // one camera ray per pixel per pass

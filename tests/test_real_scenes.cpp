@@ -1,6 +1,12 @@
 // tests/test_real_scenes.cpp: what archive scenes need (issue 6): textures and their lookup, alpha cut-outs,
 // environment maps (sampling chi-square, analytic irradiance), large meshes in bounded memory, MTL quirks.
 // Bounds come from the sample variance with Sidak-corrected k (tests/support/stats.h); seeds are fixed.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <filesystem>
+#include <fstream>
+
 #include "core/environment.h"
 #include "core/error.h"
 #include "core/image_io.h"
@@ -10,12 +16,6 @@
 #include "core/warp.h"
 #include "support/scenes.h"
 #include "support/stats.h"
-
-#include <gtest/gtest.h>
-
-#include <array>
-#include <filesystem>
-#include <fstream>
 
 namespace pv {
 namespace {
@@ -110,9 +110,13 @@ TEST(Textures, QuadShowsTheTexelUnderEachPoint) {
     scene->background = vec3(1.f);
     const test::Tracer tracer(scene);
     // Texel centres: u = 0.25 / 0.75; v = 0.75 is the TOP row (OBJ v = 0 is the image's bottom).
-    const struct { float x, y; vec3 expected; } cases[] = {
-        {0.25f, 0.75f, vec3(1, 0, 0)}, {0.75f, 0.75f, vec3(0, 1, 0)},
-        {0.25f, 0.25f, vec3(0, 0, 1)}, {0.75f, 0.25f, vec3(1, 1, 1)}};
+    const struct {
+        float x, y;
+        vec3 expected;
+    } cases[] = {{0.25f, 0.75f, vec3(1, 0, 0)},
+                 {0.75f, 0.75f, vec3(0, 1, 0)},
+                 {0.25f, 0.25f, vec3(0, 0, 1)},
+                 {0.75f, 0.25f, vec3(1, 1, 1)}};
     for (const auto& c : cases)
         for (uint32_t i = 0; i < 16; ++i) {
             const vec3 L = radiance_at(tracer, c.x, c.y, i);
@@ -156,11 +160,12 @@ TEST(Textures, AlphaCutOutPassesLightInProportion) {
     const float a = byte_value;  // the opacity the loader will read
     dir.file("scene.mtl", "newmtl occluder\nKd 0 0 0\nmap_d mask.png\nnewmtl receiver\nKd 1 1 1\n");
     const float half = 500.f, h = 1.f;
-    const std::string obj = "mtllib scene.mtl\n"
-                            "v -500 -500 1\nv 500 -500 1\nv 500 500 1\nv -500 500 1\n"
-                            "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                            "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
-                            "usemtl occluder\nf 1/1 2/2 3/3 4/4\nusemtl receiver\nf 5 6 7 8\n";
+    const std::string obj =
+        "mtllib scene.mtl\n"
+        "v -500 -500 1\nv 500 -500 1\nv 500 500 1\nv -500 500 1\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+        "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+        "usemtl occluder\nf 1/1 2/2 3/3 4/4\nusemtl receiver\nf 5 6 7 8\n";
     auto scene = std::make_shared<Scene>(load_obj(dir.file("scene.obj", obj)));
     ASSERT_NE(scene->materials[0].alpha_texture, kNoIndex);
     scene->background = vec3(1.f);
@@ -319,7 +324,10 @@ TEST(Environment, DiffusePlaneUnderMapMatchesAnalyticIrradiance) {
     const test::Tracer tracer(scene);
     const int spp = 20000;
     const double k = sidak_k(9);
-    struct Mode { bool nee, mis; const char* name; } modes[] = {{false, false, "bsdf"}, {true, false, "nee"}, {true, true, "mis"}};
+    struct Mode {
+        bool nee, mis;
+        const char* name;
+    } modes[] = {{false, false, "bsdf"}, {true, false, "nee"}, {true, true, "mis"}};
     for (const Mode& mode : modes) {
         const auto m =
             radiance_moments(tracer, mode.nee, mode.mis, ray_from(vec3(0.3f, 1, -0.2f), vec3(0, -1, 0)), spp, 21);
@@ -346,8 +354,10 @@ TEST(Environment, SunOnDiffusePlaneMatchesClosedForm) {
         scene->sun_irradiance = vec3(2.f, 1.f, 0.5f);
         scene->background = vec3(sky);
         const test::Tracer tracer(scene);
-        const struct { bool nee, mis; const char* name; } modes[] = {
-            {false, false, "bsdf"}, {true, false, "nee"}, {true, true, "mis"}};
+        const struct {
+            bool nee, mis;
+            const char* name;
+        } modes[] = {{false, false, "bsdf"}, {true, false, "nee"}, {true, true, "mis"}};
         for (const auto& mode : modes) {
             const Moments m =
                 radiance_moments(tracer, mode.nee, mode.mis, ray_from(vec3(0.1f, 1, 0.2f), vec3(0, -1, 0)), spp, 32)[0];
@@ -371,8 +381,8 @@ TEST(Environment, EmitsAgreesWithTheFullEnvironment) {
                     s.background = sky;
                     s.sun_irradiance = sun;
                     EXPECT_EQ(environment_emits(*scene, s), !Environment(*scene, s).is_black())
-                        << "map " << (scene == mapped.get()) << " strength " << strength << " sky " << sky.x
-                        << " sun " << sun.x;
+                        << "map " << (scene == mapped.get()) << " strength " << strength << " sky " << sky.x << " sun "
+                        << sun.x;
                 }
 }
 

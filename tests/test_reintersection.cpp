@@ -6,11 +6,11 @@
 // rounding error on slivers whose vertices are far larger than p, and Embree's default (non-robust) triangle test
 // reports false hits on such slivers; core/math.h now takes an error bound and core/accel.cpp sets
 // RTC_SCENE_FLAG_ROBUST. Both are needed: either alone leaves ~300 re-hits per bad sliver.
+#include <gtest/gtest.h>
+
 #include "core/accel.h"
 #include "core/rng.h"
 #include "core/warp.h"
-
-#include <gtest/gtest.h>
 
 namespace pv {
 namespace {
@@ -30,9 +30,9 @@ int count_reintersections(int triangles, int rays_per_hit, bool scale_per_vertex
     for (int t = 0; t < triangles; ++t) {
         vec3 v[3];
         const float tri_scale = std::pow(10.f, -8.f + 16.f * g.next_float());
-        const vec3 centre = scale_per_vertex ? vec3(0.f)
-                                             : tri_scale * vec3(g.next_float() * 4 - 2, g.next_float() * 4 - 2,
-                                                                g.next_float() * 4 - 2);
+        const vec3 centre =
+            scale_per_vertex ? vec3(0.f)
+                             : tri_scale * vec3(g.next_float() * 4 - 2, g.next_float() * 4 - 2, g.next_float() * 4 - 2);
         for (vec3& p : v)
             for (int k = 0; k < 3; ++k)
                 p[k] = scale_per_vertex ? random_coordinate(g) : centre[k] + tri_scale * (g.next_float() * 2 - 1);

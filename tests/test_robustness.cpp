@@ -8,16 +8,16 @@
 //  * Black-rim counter for a low-poly smooth sphere in the furnace.
 //  * The closed emissive enclosure with the Sobol sampler, bounded by the spread of independent seeds.
 // Statistical bounds come from the sample variance with Sidak-corrected quantiles (alpha = 0.01 per family).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
 #include "core/accel.h"
 #include "core/rng.h"
 #include "core/surface.h"
 #include "core/warp.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
-
-#include <gtest/gtest.h>
-
-#include <cmath>
 
 namespace pv {
 namespace {
@@ -115,8 +115,9 @@ CornerRayStats trace_corner_rays(const Corner& c, int from, int rays, uint64_t s
         // Direction at angle phi from e[from] in the cross-section (phi in (theta, pi) reaches the other face).
         const double delta = std::pow(10.0, -3.0 + 2.5 * g.next_float());
         const float mode = g.next_float();
-        const double phi = mode < 1.f / 3 ? kPiD - delta : mode < 2.f / 3 ? c.theta + delta
-                                                                          : c.theta + (kPiD - c.theta) * g.next_float();
+        const double phi = mode < 1.f / 3   ? kPiD - delta
+                           : mode < 2.f / 3 ? c.theta + delta
+                                            : c.theta + (kPiD - c.theta) * g.next_float();
         const double beta = 0.6 * (2.0 * g.next_float() - 1.0);
         const dvec3 dd = std::cos(beta) * (std::cos(phi) * dvec3(c.e[from]) + std::sin(phi) * dvec3(c.n[from])) +
                          std::sin(beta) * dvec3(0, 0, 1);
@@ -155,7 +156,6 @@ CornerRayStats trace_corner_rays(const Corner& c, int from, int rays, uint64_t s
     }
     return st;
 }
-
 
 void expect_corner_rays_clean(double angle, float scale) {
     for (int from : {0, 1}) {
@@ -263,8 +263,8 @@ int expect_corner_direct_light(const ShadowCase& sc, bool nee, int samples, doub
         Hit h;
         if (!tracer.accel().intersect(r, h) || face_of(h.prim) != face) continue;
         const SurfacePoint sp = surface_point(*scene, h);
-        const double expected = rho * l_env * (1.0 - polygon_form_factor(dvec3(sp.p), dvec3(c.n[face]),
-                                                                         quad[1 - face], 4));
+        const double expected =
+            rho * l_env * (1.0 - polygon_form_factor(dvec3(sp.p), dvec3(c.n[face]), quad[1 - face], 4));
         sampler.start(uvec2(uint32_t(i % 4096), uint32_t(i / 4096)), 0);
         sampler.reserve(kCameraDims);
         const vec3 v = trace_path(view, s, r, sampler, counters);
@@ -280,8 +280,8 @@ int expect_corner_direct_light(const ShadowCase& sc, bool nee, int samples, doub
             const double se = m2.stderr_of_mean();
             EXPECT_LE(std::fabs(m2.mean), k * se + 1e-6 * value[f][d].mean)
                 << sc.angle << " deg, scale " << sc.scale << (nee ? ", NEE+MIS" : ", BSDF only") << ", face " << f
-                << ", x0 / s in [1e-" << d + 1 << ", 1e-" << d << "]: mean L - expected " << m2.mean
-                << ", stderr " << se << ", expected " << value[f][d].mean << ", k " << k;
+                << ", x0 / s in [1e-" << d + 1 << ", 1e-" << d << "]: mean L - expected " << m2.mean << ", stderr "
+                << se << ", expected " << value[f][d].mean << ", k " << k;
         }
     return checks;
 }
@@ -298,7 +298,6 @@ TEST(CornerContactShadow, DirectSkyLightMatchesLambertFormFactor) {
 TEST(CornerContactShadow, FiveDegreeMillimetreScale) {
     for (bool nee : {false, true}) expect_corner_direct_light({5.0, 1e-3f}, nee, 60000, 2 * 6);
 }
-
 
 // ---------------------------------------------------------------- Embree reproducers
 
@@ -370,8 +369,8 @@ GrazingStats shoot_skinny_triangles(int triangles, int rays_per_triangle, uint64
             // Every other ray aims at a uniform point of the triangle itself.
             const vec2 bary = square_to_triangle(vec2(g.next_float(), g.next_float()));
             const dvec3 in_tri = centre + dvec3(bary.x) * lb + dvec3(bary.y) * lc;
-            const dvec3 local = i % 2 ? dvec3(13.2 * g.next_float() - 1.0, (h + 2.0) * g.next_float() - 1.0, 0.0)
-                                      : in_tri - centre;
+            const dvec3 local =
+                i % 2 ? dvec3(13.2 * g.next_float() - 1.0, (h + 2.0) * g.next_float() - 1.0, 0.0) : in_tri - centre;
             const dvec3 aim = centre + local.x * dvec3(frame.t) + local.y * dvec3(frame.b);
             const double alpha = (0.3 + 0.4 * g.next_float()) * kPiD / 180.0;
             const double az = 2.0 * kPiD * g.next_float();
@@ -433,7 +432,7 @@ HugeBoxStats shoot_huge_box(double extent, int rays, uint64_t seed) {
     Scene scene;
     scene.materials.push_back(Material{});
     const float e = float(extent), top = 120000.f;
-    const vec3 v[8] = {{-e, -e, 0}, {e, -e, 0}, {e, e, 0}, {-e, e, 0},
+    const vec3 v[8] = {{-e, -e, 0},   {e, -e, 0},   {e, e, 0},   {-e, e, 0},
                        {-e, -e, top}, {e, -e, top}, {e, e, top}, {-e, e, top}};
     // Outward faces: bottom (face 0), top (face 1), then the four sides.
     test::add_quad(scene, v[0], v[3], v[2], v[1], 0);
@@ -456,9 +455,9 @@ HugeBoxStats shoot_huge_box(double extent, int rays, uint64_t seed) {
         const double t_ref = 500.0 / -double(r.d.z);
         if (!is_hit || face_of(h.prim) != 1) {
             if (++st.wrong_first == 1)
-                st.first = "first hit " + (is_hit ? "face " + std::to_string(face_of(h.prim)) + " t " +
-                                                        std::to_string(h.t)
-                                                  : std::string("none"));
+                st.first =
+                    "first hit " + (is_hit ? "face " + std::to_string(face_of(h.prim)) + " t " + std::to_string(h.t)
+                                           : std::string("none"));
             continue;
         }
         if (std::fabs(double(h.t) - t_ref) > 1e-3 * t_ref) {
@@ -474,8 +473,7 @@ HugeBoxStats shoot_huge_box(double extent, int rays, uint64_t seed) {
         down.o = offset_ray_origin(sp.p, -sp.ng, sp.p_error);
         down.d = vec3(0.f, 0.f, -1.f);
         Hit hd;
-        if (!accel.intersect(down, hd) || face_of(hd.prim) != 0 || std::fabs(hd.t - 120000.0) > 120.0)
-            ++st.down_wrong;
+        if (!accel.intersect(down, hd) || face_of(hd.prim) != 0 || std::fabs(hd.t - 120000.0) > 120.0) ++st.down_wrong;
     }
     return st;
 }

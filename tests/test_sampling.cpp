@@ -6,14 +6,14 @@
 //  * sample() agrees with eval() and pdf() (rel 1e-5), reciprocity (rel 1e-4);
 //  * directional albedo <= 1 at cos(wo) in {1, 0.5, 0.1, 1e-3}, by uniform-hemisphere and BSDF sampling, which
 //    must agree; exactly 1 for albedo-1 Lambert, the mirror and lossless glass.
+#include <gtest/gtest.h>
+
 #include "core/bsdf.h"
 #include "core/lights.h"
 #include "core/warp.h"
 #include "tests/support/chi2.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
-
-#include <gtest/gtest.h>
 
 namespace pv {
 namespace {
@@ -31,9 +31,11 @@ vec3 dir_from_cos(float cos_theta, float phi = 0.7f) {
 TEST(Chi2Warp, CosineHemisphere) {
     Chi2Options o;
     o.test_count = 3;
-    const auto r = chi2_test([](Pcg32& g) -> std::optional<vec3> {
-        return square_to_cosine_hemisphere(vec2(g.next_float(), g.next_float()));
-    }, [](vec3 w) { return double(cosine_hemisphere_pdf(w.z)); }, o);
+    const auto r = chi2_test(
+        [](Pcg32& g) -> std::optional<vec3> {
+            return square_to_cosine_hemisphere(vec2(g.next_float(), g.next_float()));
+        },
+        [](vec3 w) { return double(cosine_hemisphere_pdf(w.z)); }, o);
     EXPECT_TRUE(r.passed) << r.message;
     EXPECT_NEAR(r.pdf_integral, 1.0, 1e-3);
 }
@@ -41,13 +43,15 @@ TEST(Chi2Warp, CosineHemisphere) {
 TEST(Chi2Warp, UniformSphereAndHemisphere) {
     Chi2Options o;
     o.test_count = 3;
-    const auto a = chi2_test([](Pcg32& g) -> std::optional<vec3> {
-        return square_to_uniform_sphere(vec2(g.next_float(), g.next_float()));
-    }, [](vec3) { return double(uniform_sphere_pdf()); }, o);
+    const auto a = chi2_test(
+        [](Pcg32& g) -> std::optional<vec3> { return square_to_uniform_sphere(vec2(g.next_float(), g.next_float())); },
+        [](vec3) { return double(uniform_sphere_pdf()); }, o);
     EXPECT_TRUE(a.passed) << a.message;
-    const auto b = chi2_test([](Pcg32& g) -> std::optional<vec3> {
-        return square_to_uniform_hemisphere(vec2(g.next_float(), g.next_float()));
-    }, [](vec3 w) { return w.z > 0 ? double(uniform_hemisphere_pdf()) : 0.0; }, o);
+    const auto b = chi2_test(
+        [](Pcg32& g) -> std::optional<vec3> {
+            return square_to_uniform_hemisphere(vec2(g.next_float(), g.next_float()));
+        },
+        [](vec3 w) { return w.z > 0 ? double(uniform_hemisphere_pdf()) : 0.0; }, o);
     EXPECT_TRUE(b.passed) << b.message;
 }
 
@@ -73,8 +77,7 @@ std::vector<LobeCase> lobe_cases() {
     for (float c : {1.f, 0.5f, 0.05f, -0.6f}) out.push_back({"Lambert_cos" + label(c), Lambertian{vec3(0.7f)}, c, 2});
     for (float alpha : {0.05f, 0.2f, 0.6f, 1.f})
         for (float c : {1.f, 0.6f, 0.2f, 0.02f})
-            out.push_back({"Ggx_a" + label(alpha) + "_cos" + label(c), Glossy{vec3(0.f), vec3(1.f), alpha}, c,
-                           4});
+            out.push_back({"Ggx_a" + label(alpha) + "_cos" + label(c), Glossy{vec3(0.f), vec3(1.f), alpha}, c, 4});
     for (float c : {0.9f, 0.3f, -0.5f})
         out.push_back({"DiffuseGgx_cos" + label(c), Glossy{vec3(0.4f), vec3(0.3f), 0.3f}, c, 2});
     return out;
@@ -122,9 +125,9 @@ struct LightScene {
         const uint32_t ma = test::add_material(scene, a), mb = test::add_material(scene, b),
                        mc = test::add_material(scene, c), md = test::add_material(scene, d);
         test::add_quad(scene, vec3(-1, 2, -1), vec3(-1, 2, 1), vec3(1, 2, 1), vec3(1, 2, -1), ma);  // facing down
-        scene.add_triangle(vec3(2, -1, 0), vec3(2, 1, 0.5f), vec3(2, 0, -1.5f), mb);               // side, two-sided
-        scene.add_triangle(vec3(-0.1f, -2, 0.1f), vec3(0.1f, -2, 0.1f), vec3(0, -2, -0.1f), mc);   // small, below
-        scene.add_triangle(vec3(0, 0, -3), vec3(1, 0, -3), vec3(0, 1, -3), md);                    // not a light
+        scene.add_triangle(vec3(2, -1, 0), vec3(2, 1, 0.5f), vec3(2, 0, -1.5f), mb);                // side, two-sided
+        scene.add_triangle(vec3(-0.1f, -2, 0.1f), vec3(0.1f, -2, 0.1f), vec3(0, -2, -0.1f), mc);    // small, below
+        scene.add_triangle(vec3(0, 0, -3), vec3(1, 0, -3), vec3(0, 1, -3), md);                     // not a light
         lights = std::make_unique<LightSet>(scene, scene.materials);
     }
     double direction_pdf(vec3 ref, vec3 w) const {
@@ -202,7 +205,7 @@ TEST(DielectricSampling, ReflectFrequencyMatchesFresnelAndSnell) {
         float eta, cos_wo;
     };
     // Outside (+) and inside (-), including near grazing and near the critical angle (cos 0.745 for 1.5).
-    const Case cases[] = {{1.5f, 1.f},  {1.5f, 0.5f},   {1.5f, 0.1f},  {1.5f, 1e-3f}, {1.5f, -0.95f},
+    const Case cases[] = {{1.5f, 1.f},   {1.5f, 0.5f},   {1.5f, 0.1f},  {1.5f, 1e-3f}, {1.5f, -0.95f},
                           {1.5f, -0.8f}, {1.5f, -0.75f}, {1.5f, -0.5f}, {1.33f, 0.3f}, {2.4f, -0.9f}};
     const double k = test::sidak_k(std::size(cases));
     const int n = 200000;

@@ -3,14 +3,7 @@
 // differs, so the sums agree within the recursive-summation bound and the float means bit for bit or within
 // one float ulp); a resumed part equals the single render bit for bit; the file round-trips exactly; bad parts
 // (overlapping, mismatched, truncated, another scene or version, not a partial) give one-line errors naming the file.
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/partial.h"
-#include "core/renderer.h"
-#include "tests/support/scenes.h"
-
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <cmath>
@@ -18,6 +11,12 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/partial.h"
+#include "core/renderer.h"
+#include "tests/support/scenes.h"
 
 namespace pv {
 namespace {
@@ -51,7 +50,8 @@ RenderSettings settings_with(SamplerKind kind, uint32_t seed = 0) {
 }
 
 // Renders sample indices [start, start + count) of the Cornell box into a partial render.
-PartialRender render_part(Renderer& r, const RenderSettings& s, uint32_t start, uint32_t count, int w = kW, int h = kH) {
+PartialRender render_part(Renderer& r, const RenderSettings& s, uint32_t start, uint32_t count, int w = kW,
+                          int h = kH) {
     r.restart(test::cornell_box()->camera, s, w, h);
     r.set_next_sample(start);
     for (uint32_t i = 0; i < count; ++i) r.render_pass();
@@ -119,8 +119,8 @@ TEST(ShardMerge, FourShardsOfSixtyFourEqualOneRender) {
         // The double sums differ by ~1e-16 relative: a float mean changes only if it lies that close to a rounding
         // boundary, so at most one ulp, and in practice never.
         EXPECT_LE(worst_ulps, 1);
-        std::printf("[ %s ] %zu of %zu mean values bit-identical to the single render\n", sampler_name(kind),
-                    identical, a.rgb.size());
+        std::printf("[ %s ] %zu of %zu mean values bit-identical to the single render\n", sampler_name(kind), identical,
+                    a.rgb.size());
 
         // The merged file carries the image as R, G, B and the half-buffer estimate of the merged sums.
         write_partial(dir / "merged.exr", merged);
@@ -237,10 +237,13 @@ TEST(ShardBadInput, MismatchedAndOverlappingPartsAreRefused) {
     Renderer& r = cornell_renderer();
     const RenderSettings s = settings_with(SamplerKind::Sobol);
     const PartialRender a = render_part(r, s, 0, 2);
-    auto merge_error = [&](const PartialRender& b) { return error_of([&] { merge_partials({a, b}, {"a.exr", "b.exr"}); }); };
+    auto merge_error = [&](const PartialRender& b) {
+        return error_of([&] { merge_partials({a, b}, {"a.exr", "b.exr"}); });
+    };
 
     expect_one_line_naming(merge_error(render_part(r, s, 1, 2)), "b.exr", "overlaps 0:2 of a.exr");
-    expect_one_line_naming(merge_error(render_part(r, settings_with(SamplerKind::Sobol, 1), 2, 2)), "b.exr", "settings");
+    expect_one_line_naming(merge_error(render_part(r, settings_with(SamplerKind::Sobol, 1), 2, 2)), "b.exr",
+                           "settings");
     expect_one_line_naming(merge_error(render_part(r, settings_with(SamplerKind::Independent), 2, 2)), "b.exr",
                            "sampler=independent");
     expect_one_line_naming(merge_error(render_part(r, s, 2, 2, kW + 1, kH)), "b.exr", "size");
@@ -251,7 +254,9 @@ TEST(ShardBadInput, MismatchedAndOverlappingPartsAreRefused) {
     other_scene.id.scene_hash ^= 1;
     expect_one_line_naming(merge_error(other_scene), "b.exr", "scene");
     // The order of the arguments does not change which file is named: the later range is.
-    expect_one_line_naming(error_of([&] { merge_partials({render_part(r, s, 1, 2), a}, {"b.exr", "a.exr"}); }),
+    expect_one_line_naming(error_of([&] {
+                               merge_partials({render_part(r, s, 1, 2), a}, {"b.exr", "a.exr"});
+                           }),
                            "b.exr", "overlaps");
 }
 
@@ -263,10 +268,12 @@ TEST(ShardBadInput, DamagedForeignAndTruncatedFilesAreRefused) {
     PartialRender other_version = part;
     other_version.id.version = "pathview 0.0, partial format 1";
     write_partial(dir / "old.exr", other_version);
-    expect_one_line_naming(error_of([&] { read_partial(dir / "old.exr"); }), dir / "old.exr", "written by pathview 0.0");
+    expect_one_line_naming(error_of([&] { read_partial(dir / "old.exr"); }), dir / "old.exr",
+                           "written by pathview 0.0");
 
     write_exr(dir / "plain.exr", part.film.mean());
-    expect_one_line_naming(error_of([&] { read_partial(dir / "plain.exr"); }), dir / "plain.exr", "not a partial render");
+    expect_one_line_naming(error_of([&] { read_partial(dir / "plain.exr"); }), dir / "plain.exr",
+                           "not a partial render");
 
     expect_one_line_naming(error_of([&] { read_partial(dir / "missing.exr"); }), dir / "missing.exr", "no such file");
 

@@ -1,16 +1,15 @@
 // tests/test_shard_cli.cpp: the partial-render commands end to end: `pathview render --samples START:COUNT`,
 // `pathview merge` and `pathview render --resume` against one `pathview render --spp N`; bad parts give one line
 // naming the file, a non-zero exit, and nothing (not even a temporary) at the output path.
-#include "core/image_io.h"
-#include "core/partial.h"
-#include "tests/support/cli.h"
-
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+
+#include "core/image_io.h"
+#include "core/partial.h"
+#include "tests/support/cli.h"
 
 namespace pv {
 namespace {
@@ -98,8 +97,8 @@ TEST(ShardCli, BadPartsLeaveNothingAtTheOutput) {
                  {"scene.exr", "scene"},          {"plain.exr", "not a partial"}, {"cut.exr", "cut.exr"}};
     for (const auto& c : cases) {
         SCOPED_TRACE(c.part);
-        const test::RunResult r = pathview("merge " + d / "out.exr" + " " + d / "a.exr" + " " + d / c.part + " -o " +
-                                           d / "out.png");
+        const test::RunResult r =
+            pathview("merge " + d / "out.exr" + " " + d / "a.exr" + " " + d / c.part + " -o " + d / "out.png");
         EXPECT_NE(r.exit_code, 0);
         EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
         EXPECT_NE(r.err.find(d.file(c.part)), std::string::npos) << r.err;
@@ -115,7 +114,8 @@ TEST(ShardCli, BadPartsLeaveNothingAtTheOutput) {
 
     // Resuming from a part of another scene: the scene named on the command line differs.
     const std::string other = fs::path(PATHVIEW_ASSETS).append("mis-plates/scene.json").string();
-    const test::RunResult r = pathview("render '" + other + "' --resume " + d / "a.exr" + " --spp 1 -q -o " + d / "out.exr");
+    const test::RunResult r =
+        pathview("render '" + other + "' --resume " + d / "a.exr" + " --spp 1 -q -o " + d / "out.exr");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("scene hash differs"), std::string::npos) << r.err;

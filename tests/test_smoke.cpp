@@ -1,9 +1,9 @@
 // tests/test_smoke.cpp: the built-in Cornell box loads and renders a finite image.
+#include <gtest/gtest.h>
+
 #include "core/renderer.h"
 #include "core/scene_file.h"
 #include "tests/support/scenes.h"
-
-#include <gtest/gtest.h>
 
 namespace pv {
 

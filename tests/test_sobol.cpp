@@ -2,12 +2,12 @@
 // first 2^m even (or odd) samples of a pixel is a (0,m,2)-net (pbrt-v4's ElementaryIntervals test), 1D draws are
 // stratified, the even and odd halves are uncorrelated, values are never 1.0, and the values depend only on
 // (pixel, index, seed, dimension).
-#include "core/sampler.h"
-#include "core/sobol.h"
-
 #include <gtest/gtest.h>
 
 #include <vector>
+
+#include "core/sampler.h"
+#include "core/sobol.h"
 
 namespace pv {
 namespace {
@@ -48,7 +48,8 @@ TEST(Sobol, Dim1MatchesDirectionNumbers) {
     // Dimension 1 of Sobol in index (not Gray-code) order: XORs of the direction numbers 1/2, 3/4, 5/8.
     const double expect[8] = {0.0, 0.5, 0.75, 0.25, 0.625, 0.125, 0.375, 0.875};
     for (uint32_t i = 0; i < 8; ++i) EXPECT_DOUBLE_EQ(double(sobol_dim1(i)) * 0x1p-32, expect[i]) << i;
-    for (uint32_t i = 0; i < 8; ++i) EXPECT_DOUBLE_EQ(double(sobol_dim0(i)) * 0x1p-32, i == 0 ? 0.0 : double(reverse_bits32(i)) * 0x1p-32);
+    for (uint32_t i = 0; i < 8; ++i)
+        EXPECT_DOUBLE_EQ(double(sobol_dim0(i)) * 0x1p-32, i == 0 ? 0.0 : double(reverse_bits32(i)) * 0x1p-32);
 }
 
 TEST(Sobol, Dim1ReversedMatchesTheGeneratorMatrix) {
@@ -174,7 +175,8 @@ TEST(Sobol, EvenAndOddHalvesAreUncorrelated) {
                     const float u1 = s.get1d();
                     v[parity] = draw == 0 ? u2.x : draw == 1 ? u2.y : u1;
                 }
-                sx += v[0], sy += v[1], sxy += double(v[0]) * v[1], sxx += double(v[0]) * v[0], syy += double(v[1]) * v[1];
+                sx += v[0], sy += v[1], sxy += double(v[0]) * v[1], sxx += double(v[0]) * v[0],
+                    syy += double(v[1]) * v[1];
                 ++n;
             }
         const double cov = sxy / n - sx / n * sy / n;

@@ -1,12 +1,12 @@
 // tests/test_threading.cpp: random numbers depend only on (pixel, sample index, seed), so the Renderer's image is
 // bit-identical for any thread count. These suites (Threading*) also run under TSan (make test-tsan), which is why
 // they live in a file of their own: the TSan build compiles only test_threading*.cpp and test_progressive*.cpp.
-#include "core/renderer.h"
-#include "tests/support/scenes.h"
-
 #include <gtest/gtest.h>
 
 #include <cstring>
+
+#include "core/renderer.h"
+#include "tests/support/scenes.h"
 
 namespace pv {
 namespace {

@@ -1,11 +1,11 @@
 // tests/test_threading_adaptive.cpp: adaptive sampling is deterministic for any thread count (the mask depends only
 // on the film). Threading* suites also run under TSan.
-#include "core/renderer.h"
-#include "tests/support/scenes.h"
-
 #include <gtest/gtest.h>
 
 #include <cstring>
+
+#include "core/renderer.h"
+#include "tests/support/scenes.h"
 
 namespace pv {
 namespace {
@@ -37,7 +37,8 @@ TEST(ThreadingAdaptive, OneThreadEqualsTwoThreadsBitForBit) {
         for (int x = 0; x < a.width(); ++x) {
             const FilmPixel &p = a.pixel(x, y), &q = b.pixel(x, y);
             ASSERT_EQ(p.n, q.n) << x << "," << y;
-            for (int c = 0; c < 3; ++c) ASSERT_EQ(std::memcmp(&p.sum[c], &q.sum[c], sizeof(double)), 0) << x << "," << y;
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ(std::memcmp(&p.sum[c], &q.sum[c], sizeof(double)), 0) << x << "," << y;
             counts.push_back(p.n);
         }
     // Adaptive sampling did something: the pixels do not all have the same count.

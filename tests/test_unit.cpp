@@ -1,5 +1,10 @@
 // tests/test_unit.cpp: unit tests of the pieces: warps (domain, pdf normalisation), frames, the RNG and sampler
 // (never 1.0, determinism), EXR round trip and write failures. (Thread-count determinism: test_threading.cpp.)
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/math.h"
@@ -9,11 +14,6 @@
 #include "core/warp.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
-
-#include <gtest/gtest.h>
-
-#include <filesystem>
-#include <unistd.h>
 
 namespace pv {
 namespace {
@@ -50,7 +50,7 @@ TEST(Warp, PdfsIntegrateToOne) {
     const int n = 1000;
     double cos_hemi = 0, uni_sphere = 0, uni_hemi = 0;
     for (int j = 0; j < n; ++j) {
-        const double z = -1.0 + 2.0 * (j + 0.5) / n;  // cos theta
+        const double z = -1.0 + 2.0 * (j + 0.5) / n;   // cos theta
         const double cell = (2.0 / n) * (2.0 * M_PI);  // summed over phi (the pdfs do not depend on phi)
         cos_hemi += cosine_hemisphere_pdf(float(z)) * cell;
         uni_sphere += uniform_sphere_pdf() * cell;
@@ -81,9 +81,14 @@ TEST(Warp, ConcentricDiskIsUniform) {
 
 TEST(Frame, OrthonormalAndRightHanded) {
     Pcg32 rng(11, 5);
-    std::vector<vec3> normals = {vec3(0, 0, 1), vec3(0, 0, -1), vec3(1, 0, 0), vec3(0, -1, 0),
-                                 glm::normalize(vec3(1e-7f, 0, -1)), glm::normalize(vec3(0, 1e-7f, 1))};
-    for (int i = 0; i < 100000; ++i) normals.push_back(square_to_uniform_sphere(vec2(rng.next_float(), rng.next_float())));
+    std::vector<vec3> normals = {vec3(0, 0, 1),
+                                 vec3(0, 0, -1),
+                                 vec3(1, 0, 0),
+                                 vec3(0, -1, 0),
+                                 glm::normalize(vec3(1e-7f, 0, -1)),
+                                 glm::normalize(vec3(0, 1e-7f, 1))};
+    for (int i = 0; i < 100000; ++i)
+        normals.push_back(square_to_uniform_sphere(vec2(rng.next_float(), rng.next_float())));
     for (const vec3& n : normals) {
         const Frame f(n);
         EXPECT_NEAR(glm::length(f.t), 1.f, 1e-5f);
@@ -176,9 +181,21 @@ TEST(Sampler, ReservedDimensionsMatchSequentialDraws) {
 
 // The inline next_float_up/down equal std::nextafter toward +-inf, including at zeros, denormals and infinities.
 TEST(Math, NextFloatMatchesNextafter) {
-    const float values[] = {0.f, -0.f, 1.f, -1.f, 1e-40f, -1e-40f, 3.4e38f, -3.4e38f, 0x1.fffffep127f,
-                            -0x1.fffffep127f, 1e-3f, 123.456f, std::numeric_limits<float>::denorm_min(),
-                            HUGE_VALF, -HUGE_VALF};
+    const float values[] = {0.f,
+                            -0.f,
+                            1.f,
+                            -1.f,
+                            1e-40f,
+                            -1e-40f,
+                            3.4e38f,
+                            -3.4e38f,
+                            0x1.fffffep127f,
+                            -0x1.fffffep127f,
+                            1e-3f,
+                            123.456f,
+                            std::numeric_limits<float>::denorm_min(),
+                            HUGE_VALF,
+                            -HUGE_VALF};
     for (float v : values) {
         EXPECT_EQ(next_float_up(v), std::nextafter(v, HUGE_VALF)) << v;
         EXPECT_EQ(next_float_down(v), std::nextafter(v, -HUGE_VALF)) << v;
@@ -220,9 +237,9 @@ TEST(Exr, RoundTripIsExactFloatWithMetadata) {
     Image img(7, 5);
     Pcg32 rng(9, 9);
     for (float& v : img.rgb) v = rng.next_float() * 100.f;
-    img.rgb[0] = 1e6f;       // beyond HALF's 65504: must survive as FLOAT
-    img.rgb[1] = 1e-30f;     // tiny
-    img.rgb[2] = 0.1f;       // not representable in HALF
+    img.rgb[0] = 1e6f;    // beyond HALF's 65504: must survive as FLOAT
+    img.rgb[1] = 1e-30f;  // tiny
+    img.rgb[2] = 0.1f;    // not representable in HALF
     const std::string path = (dir.path / "round.exr").string();
     write_exr(path, img, {{"pathview:spp", "17"}, {"pathview:settings", "nee=on mis=on"}});
     Metadata md;

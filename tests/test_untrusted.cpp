@@ -3,14 +3,7 @@
 // loop forever run in a child process with a time limit, so a regression fails instead of hanging the suite; the
 // child's peak RSS (wait4) is the memory figure. Image writers: full disk (RLIMIT_FSIZE), folders, long names,
 // stale temporary files.
-#include "core/error.h"
-#include "core/file_io.h"
-#include "core/image_io.h"
-#include "core/scene_file.h"
-#include "core/texture.h"
-
 #include <gtest/gtest.h>
-
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -26,6 +19,12 @@
 #include <limits>
 #include <sstream>
 #include <thread>
+
+#include "core/error.h"
+#include "core/file_io.h"
+#include "core/image_io.h"
+#include "core/scene_file.h"
+#include "core/texture.h"
 
 namespace pv {
 namespace {
@@ -141,8 +140,9 @@ TEST(UntrustedImage, HangingHdrAsMapKdTextureGivesAWarning) {
     TempDir dir;
     fs::copy_file(image("repro_hdr_rle_count0.hdr"), dir.path / "hang.hdr");
     dir.file("m.mtl", "newmtl m\nKd 0.5 0.5 0.5\nmap_Kd hang.hdr\n");
-    const std::string obj = dir.file("t.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
-                                              "usemtl m\nf 1/1 2/2 3/3\n");
+    const std::string obj = dir.file("t.obj",
+                                     "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                                     "usemtl m\nf 1/1 2/2 3/3\n");
     const ChildResult r = run_bounded([&] {
         const Scene s = load_scene(obj);
         for (const std::string& w : s.warnings)
@@ -195,9 +195,9 @@ TEST(UntrustedImage, TinyFilesDeclaringHugeImagesAreRefusedWithinLittleMemory) {
     // The child's peak RSS with nothing loaded (the forked test binary; larger under sanitizers).
     const ChildResult idle = run_bounded([] { return 0; });
     ASSERT_TRUE(idle.finished);
-    for (const char* name : {"repro_huge.tga", "repro_huge.bmp", "repro_huge.ppm", "repro_huge.gif", "repro_huge.psd",
-                             "repro_huge.jpg", "repro_huge_11585.hdr", "repro_huge_window.exr",
-                             "repro_exr_attr_2gb.exr"}) {
+    for (const char* name :
+         {"repro_huge.tga", "repro_huge.bmp", "repro_huge.ppm", "repro_huge.gif", "repro_huge.psd", "repro_huge.jpg",
+          "repro_huge_11585.hdr", "repro_huge_window.exr", "repro_exr_attr_2gb.exr"}) {
         const std::string f = image(name);
         const ChildResult r = run_bounded([&] { return expect_error_child(f, "declares"); });
         ASSERT_TRUE(r.finished) << f;
@@ -288,8 +288,9 @@ TEST(UntrustedImage, TruncatedImagesWarnNamingTheFile) {
 
 TEST(UntrustedImage, StbFailuresGiveAReadableReason) {
     TempDir dir;
-    for (const std::string& bytes : {std::string("this is not an image at all, just text"), std::string("BM\x01\x02", 4),
-                                     std::string("\x89PNG\r\n\x1a\n\0\0\0\0IHDR", 16), std::string()}) {
+    for (const std::string& bytes :
+         {std::string("this is not an image at all, just text"), std::string("BM\x01\x02", 4),
+          std::string("\x89PNG\r\n\x1a\n\0\0\0\0IHDR", 16), std::string()}) {
         const std::string f = dir.file("junk.png", bytes);
         const std::string e = texture_error(f);
         EXPECT_TRUE(contains(e, f + ": cannot read image: ")) << e;
@@ -319,7 +320,9 @@ TEST(UntrustedOutput, FullDiskFailsAndLeavesNoFile) {
         const std::string path = (dir.path / name).string();
         const ChildResult r = run_bounded([&] {
             ::signal(SIGXFSZ, SIG_IGN);
-            struct rlimit lim {4096, 4096};
+            struct rlimit lim {
+                4096, 4096
+            };
             ::setrlimit(RLIMIT_FSIZE, &lim);
             try {
                 write_image(path, img);
@@ -369,7 +372,7 @@ TEST(UntrustedOutput, StaleTemporaryFilesOfDeadWritersAreRemoved) {
     ::waitpid(dead, nullptr, 0);
     const auto old = fs::file_time_type::clock::now() - std::chrono::minutes(10);
     const fs::path stale = dir.path / atomic_temp_name(dead, 3);
-    const fs::path fresh = dir.path / atomic_temp_name(dead, 4);          // dead writer, but written just now
+    const fs::path fresh = dir.path / atomic_temp_name(dead, 4);         // dead writer, but written just now
     const fs::path alive = dir.path / atomic_temp_name(::getppid(), 5);  // a live process's
     const fs::path other = dir.path / ".pv-notapid-1.tmp";
     for (const fs::path& p : {stale, fresh, alive, other}) std::ofstream(p) << "partial";
@@ -483,8 +486,8 @@ TEST(UntrustedCli, NonFiniteFlagsAreRejected) {
     TempDir dir;
     const std::string out = (dir.path / "o.exr").string();
     for (const char* flag : {"--time nan", "--time inf", "--exposure 1000", "--exposure nan", "--exposure inf",
-                                    "--sun-radius nan", "--env-strength nan", "--aperture nan", "--focus-distance nan",
-                                    "--sun-irradiance nan", "--fov nan", "--env-rotation inf", "--eye 0,nan,1"}) {
+                             "--sun-radius nan", "--env-strength nan", "--aperture nan", "--focus-distance nan",
+                             "--sun-irradiance nan", "--fov nan", "--env-rotation inf", "--eye 0,nan,1"}) {
         const RunResult r = run_pathview("render --width 8 --height 8 -q " + std::string(flag) + " -o " + out, 30);
         EXPECT_NE(r.exit_code, 0) << flag;
         EXPECT_NE(r.exit_code, 137) << flag << ": still running after 30 s";
@@ -496,7 +499,8 @@ TEST(UntrustedCli, NonFiniteFlagsAreRejected) {
 
 TEST(UntrustedCli, HangingEnvironmentMapEndsInOneLine) {
     const std::string f = image("repro_hdr_rle_count0.hdr");
-    const RunResult r = run_pathview("render --width 8 --height 8 --spp 1 -q --environment '" + f + "' -o /tmp/unused.exr", 30);
+    const RunResult r =
+        run_pathview("render --width 8 --height 8 --spp 1 -q --environment '" + f + "' -o /tmp/unused.exr", 30);
     EXPECT_NE(r.exit_code, 137) << "still running after 30 s";
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(lines(r.err), 1u) << r.err;
@@ -525,11 +529,12 @@ TEST(UntrustedCli, ThreadsReportsWhatRan) {
     EXPECT_TRUE(contains(r.err, "--threads 1024")) << r.err;
 }
 
-#if !defined(PATHVIEW_SANITIZED)  // (clang defines no __SANITIZE_ADDRESS__; CMake defines this for every sanitizer build)
+#if !defined( \
+    PATHVIEW_SANITIZED)  // (clang defines no __SANITIZE_ADDRESS__; CMake defines this for every sanitizer build)
 TEST(UntrustedCli, FilmLargerThanMemoryIsRefusedUpFrontWithTheFigure) {
     // 4 GB of address space: 16384^2 pixels at 92 bytes need 24.7 GB. (Sanitizers reserve terabytes: not there.)
-    const RunResult r = run_pathview("render --width 16384 --height 16384 --spp 1 -q -o /tmp/unused.exr", 60,
-                                     "ulimit -v 4000000; ");
+    const RunResult r =
+        run_pathview("render --width 16384 --height 16384 --spp 1 -q -o /tmp/unused.exr", 60, "ulimit -v 4000000; ");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_TRUE(contains(r.err, "24.7 GB")) << r.err;

@@ -2,9 +2,8 @@
 // 170 degrees), one scroll step dollies by 15% of the distance to the target.
 #include "camera_controller.h"
 
-#include <glm/gtc/quaternion.hpp>
-
 #include <cstdio>
+#include <glm/gtc/quaternion.hpp>
 #include <string>
 
 namespace pv::ui {
@@ -46,7 +45,8 @@ void CameraController::pan(vec2 d, int viewport_height_px) {
     const vec3 up = glm::cross(right, f);
     // World units per pixel on the plane through the target.
     const float dist = glm::length(m_desc.target - m_desc.eye);
-    const float k = 2.f * dist * std::tan(0.5f * glm::radians(m_desc.vfov_deg)) / float(std::max(viewport_height_px, 1));
+    const float k =
+        2.f * dist * std::tan(0.5f * glm::radians(m_desc.vfov_deg)) / float(std::max(viewport_height_px, 1));
     const vec3 shift = (-d.x * right + d.y * up) * k;
     m_desc.eye += shift;
     m_desc.target += shift;
@@ -91,7 +91,8 @@ std::string camera_flags(const CameraDesc& c) {
     int n = std::snprintf(buf, sizeof buf, "--eye %g,%g,%g --target %g,%g,%g --up %g,%g,%g --fov %g", c.eye.x, c.eye.y,
                           c.eye.z, c.target.x, c.target.y, c.target.z, c.up.x, c.up.y, c.up.z, c.vfov_deg);
     if (c.aperture > 0.f && n > 0 && n < int(sizeof buf))
-        std::snprintf(buf + n, sizeof buf - size_t(n), " --aperture %g --focus-distance %g", c.aperture, c.focus_distance);
+        std::snprintf(buf + n, sizeof buf - size_t(n), " --aperture %g --focus-distance %g", c.aperture,
+                      c.focus_distance);
     return buf;
 }
 

@@ -12,18 +12,19 @@ public:
     // `initial` is what reset() returns to; the bounds set frame_all() and the default fly speed.
     CameraController(const CameraDesc& initial, vec3 bounds_lo, vec3 bounds_hi);
 
-    void orbit(vec2 delta_px);                       // about the target
-    void pan(vec2 delta_px, int viewport_height_px); // target and eye move together; the point under the cursor follows it
-    void dolly(float steps);                         // scroll steps: > 0 moves towards the target
-    void fly(vec3 move, float seconds);              // move: x right, y up, z forward, each in [-1, 1]
-    void frame_all();                                // the whole scene in view, same direction
+    void orbit(vec2 delta_px);  // about the target
+    void pan(vec2 delta_px,
+             int viewport_height_px);    // target and eye move together; the point under the cursor follows it
+    void dolly(float steps);             // scroll steps: > 0 moves towards the target
+    void fly(vec3 move, float seconds);  // move: x right, y up, z forward, each in [-1, 1]
+    void frame_all();                    // the whole scene in view, same direction
     void reset();
-    void retarget(vec3 point);                       // orbit about `point`; the eye stays
-    void focus_on(vec3 point);                       // thin-lens focus plane through `point`
+    void retarget(vec3 point);  // orbit about `point`; the eye stays
+    void focus_on(vec3 point);  // thin-lens focus plane through `point`
 
     const CameraDesc& desc() const { return m_desc; }
-    CameraDesc& desc() { return m_desc; }            // for the panel's fov / aperture / focus edits
-    float fly_speed = 1.f;                           // scene units per second
+    CameraDesc& desc() { return m_desc; }  // for the panel's fov / aperture / focus edits
+    float fly_speed = 1.f;                 // scene units per second
     float scene_radius() const { return m_radius; }
 
 private:

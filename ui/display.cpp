@@ -2,13 +2,13 @@
 // libGL (no loader); a core profile needs a VAO bound even for an attribute-less draw.
 #include "display.h"
 
-#include "core/error.h"
-
 #include <GLFW/glfw3.h>
 
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+
+#include "core/error.h"
 
 namespace pv::ui {
 namespace {

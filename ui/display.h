@@ -6,9 +6,9 @@
 // Needs a current OpenGL 3.3 core context for its whole life.
 #pragma once
 
-#include "core/progressive.h"
-
 #include <string>
+
+#include "core/progressive.h"
 
 namespace pv::ui {
 

@@ -3,9 +3,8 @@
 // tests/gui/measure_viewer.sh read it). Window-free.
 #pragma once
 
-#include "view_log.h"
-
 #include "core/progressive.h"
+#include "view_log.h"
 
 namespace pv::ui {
 

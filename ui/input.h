@@ -2,12 +2,12 @@
 // before ImGui's GLFW backend, which chains to them; the frame then routes each event to ImGui or the scene.
 #pragma once
 
-#include "core/math.h"
-
 #include <GLFW/glfw3.h>
 
 #include <utility>
 #include <vector>
+
+#include "core/math.h"
 
 namespace pv::ui {
 

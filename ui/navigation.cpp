@@ -87,8 +87,8 @@ NavigationResult Navigation::handle(InputQueue& input, const NavigationFrame& fr
     return result;
 }
 
-void Navigation::click(vec2 pos, double time, const NavigationFrame& frame, CameraController& camera,
-                       ViewState& state, NavigationResult& result) {
+void Navigation::click(vec2 pos, double time, const NavigationFrame& frame, CameraController& camera, ViewState& state,
+                       NavigationResult& result) {
     const std::optional<PickResult> hit = frame.pick ? frame.pick(pos) : std::nullopt;
     if (state.pick_focus) {
         state.pick_focus = false;

@@ -7,24 +7,24 @@
 //   Ctrl+S snapshot; Ctrl+Q quit.
 #pragma once
 
+#include <functional>
+#include <optional>
+
 #include "camera_controller.h"
 #include "input.h"
 #include "panel.h"
 #include "view_log.h"
-
-#include <functional>
-#include <optional>
 
 namespace pv::ui {
 
 // This frame's facts the mapping needs, all in window pixels.
 struct NavigationFrame {
     vec2 cursor{0.f};
-    vec2 image_size{0.f};          // the image region, from the top-left corner of the window
+    vec2 image_size{0.f};  // the image region, from the top-left corner of the window
     int window_height = 0;
     bool imgui_wants_mouse = false;
     bool imgui_wants_keyboard = false;
-    double dt = 0.0;               // seconds since the previous frame (fly speed)
+    double dt = 0.0;                                      // seconds since the previous frame (fly speed)
     std::function<std::optional<PickResult>(vec2)> pick;  // the surface under a window position
 };
 
@@ -42,8 +42,8 @@ public:
     // Consumes the queue's button events, scroll and key presses (the held fly keys stay: they are state), moves
     // the camera, and sets act.save / frame_all / reset_camera / control_changed and state.paused,
     // state.selected_material, state.pick_focus as the gestures ask.
-    NavigationResult handle(InputQueue& input, const NavigationFrame& frame, CameraController& camera,
-                            ViewState& state, PanelActions& act);
+    NavigationResult handle(InputQueue& input, const NavigationFrame& frame, CameraController& camera, ViewState& state,
+                            PanelActions& act);
     bool dragging() const { return m_drag.active; }
 
 private:

@@ -2,13 +2,13 @@
 // light, camera (with bookmarks), materials, snapshots, scene.
 #include "panel.h"
 
-#include "core/material_params.h"
-
 #include <imgui.h>
 
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
+
+#include "core/material_params.h"
 
 namespace pv::ui {
 namespace {
@@ -35,7 +35,8 @@ bool edit_material(Material& m) {
         changed |= ImGui::ColorEdit3("specular", &f.specular.x, ImGuiColorEditFlags_Float);
         changed |= ImGui::SliderFloat("roughness", &f.roughness, kMinAlpha, 1.f, "%.3f", ImGuiSliderFlags_Logarithmic);
     }
-    if (f.type == BsdfType::Glass) changed |= ImGui::SliderFloat("IOR", &f.ior, 1.0001f, 3.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+    if (f.type == BsdfType::Glass)
+        changed |= ImGui::SliderFloat("IOR", &f.ior, 1.0001f, 3.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
     if (changed) m.bsdf = make_bsdf(f);
 
     // Emission as a colour (largest channel 1) times a strength.
@@ -43,8 +44,8 @@ bool edit_material(Material& m) {
     vec3 colour = strength > 0.f ? m.emission / strength : vec3(1.f);
     bool emission_changed = ImGui::ColorEdit3("emission colour", &colour.x, ImGuiColorEditFlags_Float);
     // About 1% of the value per pixel dragged, so dim and bright emitters both edit comfortably.
-    emission_changed |= ImGui::DragFloat("emission strength", &strength, std::max(0.01f, 0.01f * strength), 0.f, 1e4f,
-                                         "%.3f");
+    emission_changed |=
+        ImGui::DragFloat("emission strength", &strength, std::max(0.01f, 0.01f * strength), 0.f, 1e4f, "%.3f");
     if (emission_changed) {
         const float c = max_component(colour);
         m.emission = c > 0.f ? colour / c * std::max(strength, 0.f) : vec3(0.f);
@@ -75,7 +76,8 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
     const ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - width, 0.f));
     ImGui::SetNextWindowSize(ImVec2(width, io.DisplaySize.y));
-    ImGui::Begin("pathview", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+    ImGui::Begin("pathview", nullptr,
+                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     ImGui::TextWrapped("%s: %zu triangles", facts.scene_name.c_str(), facts.triangles);
     for (const std::string& w : facts.warnings) ImGui::TextColored(kWarningColour, "warning: %s", w.c_str());
     if (state.settings.max_depth < RenderSettings{}.max_depth)
@@ -113,11 +115,11 @@ void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& ac
     ImGui::Text("%s samples/s   %.1f Mrays/s", format_si(double(s.paths) / secs).c_str(), s.mrays_per_s);
     ImGui::Text("%.1f ms/pass   UI frame %.1f ms", s.ms_per_pass, facts.frame_ms);
     if (s.dropped) ImGui::TextColored(kWarningColour, "%llu non-finite samples dropped", (unsigned long long)s.dropped);
-    const char* status = facts.minimised ? "minimised: paused"
-                         : state.paused  ? "paused"
-                         : s.target_reached ? (s.active_fraction == 0.0 ? "noise threshold reached: stopped"
-                                                                         : "target reached: stopped")
-                                             : "rendering";
+    const char* status =
+        facts.minimised    ? "minimised: paused"
+        : state.paused     ? "paused"
+        : s.target_reached ? (s.active_fraction == 0.0 ? "noise threshold reached: stopped" : "target reached: stopped")
+                           : "rendering";
     ImGui::Text("status: %s", status);
     ImGui::SetNextItemWidth(100.f);
     if (ImGui::InputInt("target spp", &state.target_spp, 16, 256)) {
@@ -200,8 +202,8 @@ void Panel::lighting(ViewState& state, PanelActions& act) {
     if (state.has_environment_map) {
         act.environment_changed |= ImGui::SliderFloat("map rotation", &e.rotation_deg, -180.f, 180.f, "%.0f deg");
     } else {
-        act.environment_changed |= ImGui::ColorEdit3("sky colour", &e.background.x, ImGuiColorEditFlags_Float |
-                                                                                       ImGuiColorEditFlags_HDR);
+        act.environment_changed |=
+            ImGui::ColorEdit3("sky colour", &e.background.x, ImGuiColorEditFlags_Float | ImGuiColorEditFlags_HDR);
     }
     act.environment_changed |=
         ImGui::DragFloat("sky strength", &e.strength, 0.01f * std::max(e.strength, 0.1f), 0.f, 1e6f, "%.3g");
@@ -227,8 +229,8 @@ void Panel::lighting(ViewState& state, PanelActions& act) {
             e.sun_irradiance = vec3(std::max(irradiance, 0.f));
             act.environment_changed = true;
         }
-        act.environment_changed |=
-            ImGui::SliderFloat("sun radius", &e.sun_angular_radius_deg, 0.05f, 10.f, "%.2f deg", ImGuiSliderFlags_Logarithmic);
+        act.environment_changed |= ImGui::SliderFloat("sun radius", &e.sun_angular_radius_deg, 0.05f, 10.f, "%.2f deg",
+                                                      ImGuiSliderFlags_Logarithmic);
     }
 }
 
@@ -280,8 +282,9 @@ void Panel::camera(ViewState& state, CameraController& ctl, PanelActions& act) {
     if (ImGui::Button("Frame all (F)")) act.frame_all = true;
     ImGui::SameLine();
     if (ImGui::Button("Reset (R)")) act.reset_camera = true;
-    ImGui::TextDisabled("orbit: left drag, pan: middle or shift+left,\ndolly: scroll, fly: WASD/QE,\n"
-                        "double-click: orbit about a point");
+    ImGui::TextDisabled(
+        "orbit: left drag, pan: middle or shift+left,\ndolly: scroll, fly: WASD/QE,\n"
+        "double-click: orbit about a point");
 }
 
 void Panel::materials(ViewState& state, PanelActions& act) {
@@ -313,16 +316,17 @@ void Panel::snapshots(ViewState& state, PanelActions& act) {
     if (ImGui::Button("Save resumable EXR")) act.save_resumable = true;
     log_widget("save_resumable");
     if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("The accumulation's exact per-pixel sums (a partial render):\n"
-                          "pathview render --resume FILE --spp N -o OUT.exr adds N samples.");
+        ImGui::SetTooltip(
+            "The accumulation's exact per-pixel sums (a partial render):\n"
+            "pathview render --resume FILE --spp N -o OUT.exr adds N samples.");
     if (!state.snapshot_status.empty()) status_text(state.snapshot_status, state.snapshot_ok);
 }
 
 void Panel::scene(ViewState& state, PanelActions& act) {
     if (m_scene_path[0] == 0) std::snprintf(m_scene_path, sizeof m_scene_path, "%s", state.scene_path.c_str());
     ImGui::SetNextItemWidth(-FLT_MIN);
-    const bool entered = ImGui::InputText("##scene", m_scene_path, sizeof m_scene_path,
-                                          ImGuiInputTextFlags_EnterReturnsTrue);
+    const bool entered =
+        ImGui::InputText("##scene", m_scene_path, sizeof m_scene_path, ImGuiInputTextFlags_EnterReturnsTrue);
     log_widget("scene_path");
     ImGui::BeginDisabled(state.scene_loading);
     const bool clicked = ImGui::Button(state.scene_loading ? "Loading..." : "Load (.json or .obj)");

@@ -3,15 +3,15 @@
 // tone map, views). Drawn between ImGui::NewFrame() and ImGui::Render().
 #pragma once
 
-#include "camera_controller.h"
-#include "core/environment.h"
-#include "convergence.h"
-#include "display.h"
-#include "view_log.h"
-
 #include <map>
 #include <string>
 #include <vector>
+
+#include "camera_controller.h"
+#include "convergence.h"
+#include "core/environment.h"
+#include "display.h"
+#include "view_log.h"
 
 namespace pv::ui {
 
@@ -25,15 +25,15 @@ struct ViewState {
     float target_seconds = 0.f;  // 0: none
     bool paused = false;
     int selected_material = -1;
-    bool pick_focus = false;     // the next click in the image sets the focus plane
+    bool pick_focus = false;  // the next click in the image sets the focus plane
     std::string snapshot_dir;
     std::string snapshot_status;
     bool snapshot_ok = true;
-    std::string scene_path;      // the scene to load (Scene section)
+    std::string scene_path;  // the scene to load (Scene section)
     std::string scene_status;
     bool scene_ok = true;
-    bool scene_loading = false;  // a load runs in the background
-    EnvironmentSettings environment;    // sky, map rotation/strength, sun (Light section)
+    bool scene_loading = false;       // a load runs in the background
+    EnvironmentSettings environment;  // sky, map rotation/strength, sun (Light section)
     bool has_environment_map = false;
     std::vector<Scene::Bookmark> bookmarks;  // saved with the scene file (Camera section)
     std::string bookmark_status;
@@ -50,7 +50,7 @@ struct PanelFacts {
     int full_width = 0, full_height = 0;  // the image region, in pixels
     int level = 1;                        // render resolution divisor (4, 2 or 1)
     bool minimised = false;
-    double frame_ms = 0.0;                // the UI's last frame
+    double frame_ms = 0.0;  // the UI's last frame
 };
 
 // What the user asked for in this frame.
@@ -61,13 +61,13 @@ struct PanelActions {
     bool control_changed = false;  // pause or targets
     bool restart = false;
     bool save = false;
-    bool save_resumable = false;     // a partial render that `pathview render --resume` continues
+    bool save_resumable = false;  // a partial render that `pathview render --resume` continues
     bool frame_all = false;
     bool reset_camera = false;
     bool load_scene = false;
     bool environment_changed = false;
-    int goto_bookmark = -1;          // index into ViewState::bookmarks
-    std::string save_bookmark;       // non-empty: save the current camera under this name
+    int goto_bookmark = -1;     // index into ViewState::bookmarks
+    std::string save_bookmark;  // non-empty: save the current camera under this name
 };
 
 class Panel {

@@ -3,11 +3,11 @@
 // the load ends, also by an error, `wake` runs (the viewer posts an empty GLFW event with it). Window-free.
 #pragma once
 
-#include "core/progressive.h"
-
 #include <functional>
 #include <future>
 #include <memory>
+
+#include "core/progressive.h"
 
 namespace pv::ui {
 

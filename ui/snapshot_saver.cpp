@@ -1,10 +1,10 @@
 // ui/snapshot_saver.cpp: one std::async task per snapshot; the image is copied so rendering goes on.
 #include "snapshot_saver.h"
 
-#include "core/image_io.h"
-
 #include <cstdio>
 #include <filesystem>
+
+#include "core/image_io.h"
 
 namespace pv::ui {
 

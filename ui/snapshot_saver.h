@@ -3,13 +3,13 @@
 // file and renames it, so a crash never leaves half a snapshot. The destructor waits for writes in flight.
 #pragma once
 
-#include "core/partial.h"
-#include "core/progressive.h"
-
 #include <functional>
 #include <future>
 #include <string>
 #include <vector>
+
+#include "core/partial.h"
+#include "core/progressive.h"
 
 namespace pv::ui {
 

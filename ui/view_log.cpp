@@ -1,12 +1,12 @@
 // ui/view_log.cpp: a flushed, timestamped line log.
 #include "view_log.h"
 
-#include "core/error.h"
-
 #include <cerrno>
 #include <chrono>
 #include <cstdarg>
 #include <cstring>
+
+#include "core/error.h"
 
 namespace pv::ui {
 namespace {

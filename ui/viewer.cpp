@@ -6,7 +6,17 @@
 // snapshot_saver.h (EXR snapshots), panel.h (the ImGui panel), display.h (the GL display pass).
 #include "viewer.h"
 
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <filesystem>
+
 #include "camera_controller.h"
+#include "core/environment.h"
+#include "core/error.h"
+#include "core/scene_file.h"
 #include "display.h"
 #include "frame_stats.h"
 #include "input.h"
@@ -16,17 +26,6 @@
 #include "scene_loader.h"
 #include "snapshot_saver.h"
 #include "view_log.h"
-
-#include "core/environment.h"
-#include "core/error.h"
-#include "core/scene_file.h"
-
-#include <GLFW/glfw3.h>
-#include <backends/imgui_impl_glfw.h>
-#include <backends/imgui_impl_opengl3.h>
-#include <imgui.h>
-
-#include <filesystem>
 
 namespace pv::ui {
 namespace {
@@ -171,8 +170,9 @@ LoadedScene Viewer::load_first_scene() {
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
         ImGui::SetNextWindowPos(ImVec2(16.f, 16.f));
-        ImGui::Begin("pathview", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
-                                               ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings);
+        ImGui::Begin("pathview", nullptr,
+                     ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
+                         ImGuiWindowFlags_NoSavedSettings);
         ImGui::Text("loading the scene and building its BVH ... %.1f s", glfwGetTime() - start);
         ImGui::End();
         ImGui::Render();
@@ -341,8 +341,8 @@ int Viewer::run() {
             m_state.snapshot_status = "preparing a resumable snapshot";
             m_state.snapshot_ok = true;
         }
-        if (act.load_scene && m_loader.start([path = m_state.scene_path] { return pv::load_scene(path); },
-                                             m_opt.threads)) {
+        if (act.load_scene &&
+            m_loader.start([path = m_state.scene_path] { return pv::load_scene(path); }, m_opt.threads)) {
             m_state.scene_loading = true;
             m_state.scene_status = "loading " + m_state.scene_path + " ...";
             m_state.scene_ok = true;
@@ -426,8 +426,7 @@ void Viewer::restart_on_change(const PanelActions& act, bool camera_moved, bool 
         post(*restart, act.materials_changed, act.environment_changed, now);
 }
 
-void Viewer::post(const RefinementSchedule::Restart& restart, bool with_materials, bool with_environment,
-                  double now) {
+void Viewer::post(const RefinementSchedule::Restart& restart, bool with_materials, bool with_environment, double now) {
     RenderRequest req;
     if (with_environment) req.environment = m_state.environment;
     req.camera = m_camera->desc();
@@ -502,7 +501,6 @@ void Viewer::poll_saves() {
         }
     }
 }
-
 
 int run_viewer(const ViewerOptions& options) {
     Viewer viewer(options);

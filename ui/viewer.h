@@ -3,10 +3,10 @@
 // Rendering runs on the ProgressiveRenderer's threads; the UI thread only posts restarts and copies snapshots.
 #pragma once
 
-#include "core/progressive.h"
-
 #include <functional>
 #include <string>
+
+#include "core/progressive.h"
 
 namespace pv::ui {
 
@@ -18,7 +18,7 @@ struct ViewerOptions {
     int width = 512, height = 512;  // the initial image region, in pixels
     int threads = 0;                // 0: all cores
     std::string snapshot_dir = ".";
-    std::string log_file;           // empty: no log
+    std::string log_file;  // empty: no log
 };
 
 // Runs the viewer until the window closes; returns the exit code (0). Throws pv::Error when there is no display,

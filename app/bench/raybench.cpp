@@ -1,20 +1,19 @@
 // app/bench/raybench.cpp: ray generation (untimed) and timed tracing loops on a TBB arena (see raybench.h).
 #include "app/bench/raybench.h"
 
-#include "core/rng.h"
-#include "core/surface.h"
-#include "core/warp.h"
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
-
 #include <time.h>
 
 #include <atomic>
 #include <chrono>
 #include <thread>
 #include <vector>
+
+#include "core/rng.h"
+#include "core/surface.h"
+#include "core/warp.h"
 
 namespace pv {
 
@@ -91,10 +90,10 @@ RaySets make_rays(const Scene& scene, const Accel& accel, const LightSet& lights
     Pcg32 rng(o.seed, 0x6a09e667f3bcc909ull);
     for (int y = 0; y < o.height; ++y)
         for (int x = 0; x < o.width; ++x)
-            random_walk(scene, accel, lights, env, camera, x, y, o.walk_depth, rng,
-                        [&](const Ray& r) { sets.camera.push_back(r); },
-                        [&](const Ray& r) { sets.bounce.push_back(r); },
-                        [&](const Ray& r, vec3) { sets.shadow.push_back(r); });
+            random_walk(
+                scene, accel, lights, env, camera, x, y, o.walk_depth, rng,
+                [&](const Ray& r) { sets.camera.push_back(r); }, [&](const Ray& r) { sets.bounce.push_back(r); },
+                [&](const Ray& r, vec3) { sets.shadow.push_back(r); });
     return sets;
 }
 
@@ -102,7 +101,9 @@ RaySets make_rays(const Scene& scene, const Accel& accel, const LightSet& lights
 class BenchClock {
 public:
     BenchClock(bool cpu_clock, int threads)
-        : m_cpu(cpu_clock), m_threads(threads), m_wall(std::chrono::steady_clock::now()),
+        : m_cpu(cpu_clock),
+          m_threads(threads),
+          m_wall(std::chrono::steady_clock::now()),
           m_cpu_start(process_cpu_seconds()) {}
     double elapsed() const {
         return m_cpu ? (process_cpu_seconds() - m_cpu_start) / m_threads
@@ -187,12 +188,13 @@ MinimalKernelRate measure_minimal_kernel(const Scene& scene, const Accel& accel,
                     Row& row = rows[size_t(y)];
                     Pcg32 rng(hash_combine(o.seed, pass), uint64_t(y));
                     for (int x = 0; x < o.width; ++x)
-                        random_walk(scene, accel, lights, env, camera, x, y, o.walk_depth, rng,
-                                    [&](const Ray&) { row.camera++; }, [&](const Ray&) { row.bounce++; },
-                                    [&](const Ray& s, vec3 contribution) {
-                                        row.shadow++;
-                                        if (!accel.occluded(s)) row.sum += contribution.x;
-                                    });
+                        random_walk(
+                            scene, accel, lights, env, camera, x, y, o.walk_depth, rng,
+                            [&](const Ray&) { row.camera++; }, [&](const Ray&) { row.bounce++; },
+                            [&](const Ray& s, vec3 contribution) {
+                                row.shadow++;
+                                if (!accel.occluded(s)) row.sum += contribution.x;
+                            });
                 }
             });
         });

@@ -4,12 +4,12 @@
 // first, then traced in a timed loop on `threads` workers: no shading, sampling or film work is timed.
 #pragma once
 
+#include <cstdint>
+
 #include "core/accel.h"
 #include "core/camera.h"
 #include "core/environment.h"
 #include "core/lights.h"
-
-#include <cstdint>
 
 namespace pv {
 
@@ -27,10 +27,10 @@ struct RayRates {
 };
 
 struct RayBenchOptions {
-    int width = 256, height = 256;   // camera rays: one jittered ray per pixel
-    int threads = 0;                 // 0: all cores
-    double seconds_per_kind = 0.5;   // timed tracing per ray kind (whole passes over the ray set)
-    int walk_depth = 4;              // bounce rays per camera ray at most (random walk, stops on a miss)
+    int width = 256, height = 256;  // camera rays: one jittered ray per pixel
+    int threads = 0;                // 0: all cores
+    double seconds_per_kind = 0.5;  // timed tracing per ray kind (whole passes over the ray set)
+    int walk_depth = 4;             // bounce rays per camera ray at most (random walk, stops on a miss)
     uint32_t seed = 1;
     // Time by the process's CPU time divided by `threads` instead of the wall clock: rates then do not fall when
     // other processes share the cores (their work is not ours), while our own spinning and stalls still count.

@@ -13,7 +13,8 @@ void add_displaced_sphere(Scene& s, vec3 c, float r, float amp, int n_theta, int
         for (int j = 0; j < n_phi; ++j) {
             const float phi = 2.f * kPi * float(j) / float(n_phi);
             const vec3 d(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
-            const float bump = 1.f + amp * std::sin(7.f * theta) * std::sin(9.f * phi) * std::sin(3.f * theta + 2.f * phi);
+            const float bump =
+                1.f + amp * std::sin(7.f * theta) * std::sin(9.f * phi) * std::sin(3.f * theta + 2.f * phi);
             s.positions.push_back(c + r * bump * d);
         }
     }

@@ -3,10 +3,10 @@
 //                 white diffuse material, standing in for the box's contents.
 #pragma once
 
-#include "core/scene.h"
-
 #include <optional>
 #include <string>
+
+#include "core/scene.h"
 
 namespace pv {
 

@@ -3,13 +3,13 @@
 // decoders, and the EXR header walk before OpenEXR. Bad input must end in pv::Error or a texture, in bounded time
 // and memory (libFuzzer's -timeout and -rss_limit_mb), never a crash, a sanitizer report or a non-finite texel.
 // Seeds and the issue-15 reproducers: tests/fuzz/corpus-image (tests/fuzz/make_corpus.py).
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/texture.h"
-
 #include <cstdint>
 #include <cstdlib>
 #include <string>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/texture.h"
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
     // 4 megapixels: large enough for every decoder's paths, small enough for thousands of runs a second.

@@ -2,14 +2,14 @@
 // tinyobjloader, validation), then the Embree BVH build and a handful of closest-hit and occlusion rays through
 // the scene's bounds, as rendering would. Bad input must end in pv::Error or a loaded scene, never a crash,
 // an ASan/UBSan report or a NaN in the loaded data.
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
 #include "core/accel.h"
 #include "core/error.h"
 #include "core/lights.h"
 #include "core/obj_loader.h"
-
-#include <cstdint>
-#include <cstdlib>
-#include <string>
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size > (1u << 16)) return 0;  // keep inputs small: the interesting bugs are in the parsing
@@ -23,7 +23,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // What validation promises (core/obj_loader.h): indices in range, finite non-degenerate triangles.
     for (size_t i = 0; i < scene.triangles.size(); ++i) {
         const pv::uvec3 t = scene.triangles[i];
-        if (t.x >= scene.positions.size() || t.y >= scene.positions.size() || t.z >= scene.positions.size()) std::abort();
+        if (t.x >= scene.positions.size() || t.y >= scene.positions.size() || t.z >= scene.positions.size())
+            std::abort();
         if (scene.material_ids[i] >= scene.materials.size()) std::abort();
         for (int k = 0; k < 3; ++k)
             if (!pv::is_finite(scene.positions[t[k]])) std::abort();

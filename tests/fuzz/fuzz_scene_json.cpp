@@ -3,10 +3,6 @@
 // fuzzed file lie a.obj (one triangle), lit.obj (an emitter with material "m") and sky.hdr (a small RLE map), the
 // names the seeds in tests/fuzz/corpus-json use. Bad input must end in pv::Error or a scene whose values are the
 // validated ones (finite camera, non-negative lighting), never a crash or a sanitizer report.
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/scene_file.h"
-
 #include <unistd.h>
 
 #include <cstdint>
@@ -15,10 +11,16 @@
 #include <fstream>
 #include <string>
 
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/scene_file.h"
+
 namespace {
 std::string g_dir;
 
-void put(const std::string& name, const std::string& text) { std::ofstream(g_dir + "/" + name, std::ios::binary) << text; }
+void put(const std::string& name, const std::string& text) {
+    std::ofstream(g_dir + "/" + name, std::ios::binary) << text;
+}
 
 std::string sky_hdr() {
     std::string s = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 8\n";
@@ -56,7 +58,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         !(c.aperture >= 0.f) || !(c.focus_distance >= 0.f))
         std::abort();
     if (!(scene.environment_strength >= 0.f) || !pv::is_finite(scene.sun_irradiance) ||
-        !(scene.sun_irradiance.x >= 0.f) || !(scene.sun_angular_radius_deg >= 0.01f) || !pv::is_finite(scene.background))
+        !(scene.sun_irradiance.x >= 0.f) || !(scene.sun_angular_radius_deg >= 0.01f) ||
+        !pv::is_finite(scene.background))
         std::abort();
     for (const pv::Material& m : scene.materials)
         if (!pv::is_finite(m.emission)) std::abort();

@@ -1,11 +1,11 @@
 // tests/gui/test_ui_logic.cpp: the viewer's window-free logic: camera navigation and the convergence history.
 // Built only with the UI (it links pathview_ui); needs no display.
-#include "camera_controller.h"
-#include "convergence.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "camera_controller.h"
+#include "convergence.h"
 
 namespace pv::ui {
 namespace {
@@ -39,8 +39,8 @@ TEST(ViewerCamera, PanMovesEyeAndTargetTogether) {
     CameraController cam = controller();
     cam.pan(vec2(100.f, 0.f), 500);
     const CameraDesc& c = cam.desc();
-    EXPECT_NEAR(c.target.x, c.eye.x, 1e-4f);                   // both moved by the same amount
-    EXPECT_LT(c.target.x, 0.f);                                // dragging right moves the view left
+    EXPECT_NEAR(c.target.x, c.eye.x, 1e-4f);  // both moved by the same amount
+    EXPECT_LT(c.target.x, 0.f);               // dragging right moves the view left
     // One image height of drag spans the view at the target: 2 d tan(fov/2).
     const float expected = 100.f / 500.f * 2.f * 10.f * std::tan(glm::radians(20.f));
     EXPECT_NEAR(-c.target.x, expected, 1e-4f);

@@ -1,17 +1,16 @@
 // tests/gui/test_ui_rooms.cpp: the viewer's window-free rooms: gestures -> camera (navigation.h), the refinement
 // schedule (refinement.h) and background scene loads (scene_loader.h). Needs no display.
-#include "navigation.h"
-#include "refinement.h"
-#include "scene_loader.h"
-
-#include "core/error.h"
-#include "core/scene_file.h"
-
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <chrono>
 #include <thread>
+
+#include "core/error.h"
+#include "core/scene_file.h"
+#include "navigation.h"
+#include "refinement.h"
+#include "scene_loader.h"
 
 namespace pv::ui {
 namespace {

@@ -1,13 +1,13 @@
 // tests/slurm/exr_compare.cpp: `pathview_exr_compare A.exr B.exr [REL]`: exit 0 if both images have the same size
 // and every R, G, B value agrees within REL (default 1e-6) relative to the larger of the two; prints the largest
 // difference and the count of bit-identical values. For the scripted tests (tests/slurm/run.sh).
-#include "core/error.h"
-#include "core/image_io.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+
+#include "core/error.h"
+#include "core/image_io.h"
 
 int main(int argc, char** argv) {
     if (argc < 3) {

@@ -1,12 +1,12 @@
 // tests/support/chi2.cpp: see chi2.h.
 #include "tests/support/chi2.h"
 
-#include "tests/support/stats.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <sstream>
+
+#include "tests/support/stats.h"
 
 namespace pv::test {
 
@@ -65,8 +65,7 @@ Chi2Result chi2_test(const DirectionSampler& sample, const DirectionPdf& pdf, co
         double acc = 0.0;
         for (int a = 0; a <= m; ++a)
             for (int b = 0; b <= m; ++b)
-                acc += wts[size_t(a)] * wts[size_t(b)] *
-                       eval_pdf(p0 + (p1 - p0) * b / m, z0 + (z1 - z0) * a / m);
+                acc += wts[size_t(a)] * wts[size_t(b)] * eval_pdf(p0 + (p1 - p0) * b / m, z0 + (z1 - z0) * a / m);
         return acc * ((p1 - p0) / m / 3.0) * ((z1 - z0) / m / 3.0);
     };
     std::function<double(double, double, double, double, double, double, int)> adapt =
@@ -152,8 +151,8 @@ Chi2Result chi2_test(const DirectionSampler& sample, const DirectionPdf& pdf, co
     r.level = sidak_alpha(o.alpha, o.test_count);
     r.passed = std::isfinite(r.p) && r.p >= r.level;
     std::ostringstream s;
-    s << "chi2 = " << chi2 << ", dof = " << r.dof << ", p = " << r.p << " (level " << r.level
-      << "), pdf integral " << integral << ", sampled fraction " << r.sampled_fraction;
+    s << "chi2 = " << chi2 << ", dof = " << r.dof << ", p = " << r.p << " (level " << r.level << "), pdf integral "
+      << integral << ", sampled fraction " << r.sampled_fraction;
     r.message = s.str();
     return r;
 }

@@ -10,22 +10,22 @@
 // the pdf integral and the sampled fraction are <= 1 (+ tolerance).
 #pragma once
 
-#include "core/math.h"
-#include "core/rng.h"
-
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "core/math.h"
+#include "core/rng.h"
 
 namespace pv::test {
 
 struct Chi2Options {
     int res_cos = 51;
     int res_phi = 102;
-    int ires = 2;              // Simpson sub-intervals per (sub-)cell side (even); cells are refined adaptively
+    int ires = 2;  // Simpson sub-intervals per (sub-)cell side (even); cells are refined adaptively
     size_t sample_count = 1000000;
-    double test_count = 1;     // tests in the family, for the Sidak correction
+    double test_count = 1;  // tests in the family, for the Sidak correction
     double alpha = 0.01;
     uint64_t seed = 1;
 };
@@ -34,9 +34,9 @@ struct Chi2Result {
     bool passed = false;
     double p = 0.0, level = 0.0, chi2 = 0.0;
     int dof = 0;
-    double pdf_integral = 0.0;     // integral of pdf over the sphere
-    double sampled_fraction = 0.0; // samples that produced a direction / sample_count
-    std::string message;           // why it failed, or a summary
+    double pdf_integral = 0.0;      // integral of pdf over the sphere
+    double sampled_fraction = 0.0;  // samples that produced a direction / sample_count
+    std::string message;            // why it failed, or a summary
 };
 
 // sample(rng) returns a direction (or nothing when the sampler rejects); pdf(w) its solid-angle density.

@@ -16,8 +16,8 @@ namespace pv::test {
 RunResult run_command(const std::string& binary, const std::string& args) {
     namespace fs = std::filesystem;
     static std::atomic<int> counter{0};
-    const fs::path dir = fs::temp_directory_path() /
-                         ("pathview_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    const fs::path dir =
+        fs::temp_directory_path() / ("pathview_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
     fs::create_directories(dir);
     const std::string out = (dir / "stdout").string(), err = (dir / "stderr").string();
     const std::string cmd = "'" + binary + "' " + args + " >'" + out + "' 2>'" + err + "'";

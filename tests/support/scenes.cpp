@@ -1,14 +1,14 @@
 // tests/support/scenes.cpp: see scenes.h.
 #include "tests/support/scenes.h"
 
-#include "core/renderer.h"
-#include "core/scene_file.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
 #include <mutex>
+
+#include "core/renderer.h"
+#include "core/scene_file.h"
 
 namespace pv::test {
 
@@ -24,12 +24,12 @@ void add_quad(Scene& scene, vec3 p0, vec3 p1, vec3 p2, vec3 p3, uint32_t materia
 
 void add_icosphere(Scene& scene, vec3 centre, float radius, int subdiv, uint32_t material, bool inward) {
     const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-    std::vector<dvec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                            {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<dvec3> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                            {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
     for (dvec3& p : v) p = glm::normalize(p);
-    std::vector<uvec3> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                            {11, 10, 2}, {10, 7, 6}, {7, 1, 8},   {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                            {3, 8, 9},   {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    std::vector<uvec3> f = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                            {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                            {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     for (int s = 0; s < subdiv; ++s) {
         std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
         auto midpoint = [&](uint32_t a, uint32_t b) {
@@ -119,8 +119,9 @@ Film Tracer::render(const CameraDesc& camera, const RenderSettings& settings, in
                     bool pixel_centre, uint64_t* dropped) const {
     Film film(width, height);
     uint64_t drops = 0;
-    for_each_sample(camera, settings, width, height, spp,
-                    [&](int x, int y, uint32_t i, vec3 L) { drops += film.add(x, y, i, L) ? 0 : 1; }, pixel_centre);
+    for_each_sample(
+        camera, settings, width, height, spp,
+        [&](int x, int y, uint32_t i, vec3 L) { drops += film.add(x, y, i, L) ? 0 : 1; }, pixel_centre);
     if (dropped) *dropped = drops;
     return film;
 }

@@ -3,6 +3,9 @@
 // trace_path with the Renderer's camera-sample convention, so a test can inspect every sample.
 #pragma once
 
+#include <functional>
+#include <memory>
+
 #include "core/accel.h"
 #include "core/camera.h"
 #include "core/environment.h"
@@ -11,14 +14,12 @@
 #include "core/lights.h"
 #include "core/scene.h"
 
-#include <functional>
-#include <memory>
-
 namespace pv::test {
 
 // Appends a material and returns its index.
 uint32_t add_material(Scene& scene, const Material& m);
-// Quad p0 p1 p2 p3 (counter-clockwise seen from the front): triangles (p0 p1 p2), (p0 p2 p3); normal cross(p1-p0, p2-p0).
+// Quad p0 p1 p2 p3 (counter-clockwise seen from the front): triangles (p0 p1 p2), (p0 p2 p3); normal cross(p1-p0,
+// p2-p0).
 void add_quad(Scene& scene, vec3 p0, vec3 p1, vec3 p2, vec3 p3, uint32_t material);
 // Geodesic sphere: icosahedron subdivided `subdiv` times (20 * 4^subdiv triangles). Faces point outward, or
 // inward when `inward` (an enclosure seen from inside).

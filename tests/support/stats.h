@@ -3,11 +3,11 @@
 // two-image comparison of TEST-CATALOG 3.3 (per-pixel Welch with Sidak, plus the total-mean test).
 #pragma once
 
-#include "core/film.h"
-
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "core/film.h"
 
 namespace pv::test {
 
@@ -54,13 +54,13 @@ struct PixelStats {
 
 // Result of comparing two independent noisy images of the same thing (TEST-CATALOG 3.3).
 struct ImageComparison {
-    size_t channels = 0;       // pixel-channels tested
-    size_t failures = 0;       // with |t| > k
-    double k = 0.0;            // Sidak threshold for `channels` tests
+    size_t channels = 0;  // pixel-channels tested
+    size_t failures = 0;  // with |t| > k
+    double k = 0.0;       // Sidak threshold for `channels` tests
     double max_t = 0.0;
     int worst_x = -1, worst_y = -1;
-    double total_z = 0.0;      // total-mean z
-    bool passed = false;       // failures <= 0.25% and max_t < k + 2 and |total_z| < 3.29
+    double total_z = 0.0;  // total-mean z
+    bool passed = false;   // failures <= 0.25% and max_t < k + 2 and |total_z| < 3.29
     std::string describe() const;
 };
 // Welch t per pixel-channel (a channel with zero variance in both images must be equal), Sidak over all.
