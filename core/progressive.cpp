@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/denoise_atrous.h"
 #include "core/error.h"
 #include "core/metrics.h"
 
@@ -68,6 +69,14 @@ void ProgressiveRenderer::set_on_publish(std::function<void()> callback) {
 
 int ProgressiveRenderer::threads() const { return m_renderer.threads(); }
 
+void ProgressiveRenderer::set_denoise(bool on) {
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        m_denoise = on;
+    }
+    m_wake.notify_one();
+}
+
 void ProgressiveRenderer::request_partial() {
     {
         std::lock_guard<std::mutex> lock(m_mutex);
@@ -120,6 +129,12 @@ bool ProgressiveRenderer::target_reached() const {
 
 bool ProgressiveRenderer::partial_due() const { return m_partial_requested && m_renderer.stats().spp > 0; }
 
+bool ProgressiveRenderer::denoise_due() const {
+    // m_denoised_* are the driver's own; this runs on the driver thread.
+    return m_denoise && m_renderer.stats().spp > 0 &&
+           (m_denoised_generation != m_generation || m_denoised_spp != m_renderer.stats().spp);
+}
+
 bool ProgressiveRenderer::should_render() const {
     // A new accumulation gets its first pass even while paused, so the picture follows the camera.
     return !target_reached() && (!m_paused || m_renderer.stats().spp == 0);
@@ -134,8 +149,10 @@ void ProgressiveRenderer::drive() {
         bool is_new = false, make_partial = false;
         {
             std::unique_lock<std::mutex> lock(m_mutex);
-            m_wake.wait(lock,
-                        [&] { return m_quit || m_pending || (has_request && (should_render() || partial_due())); });
+            m_wake.wait(lock, [&] {
+                return m_quit || m_pending ||
+                       (has_request && (should_render() || partial_due() || (denoise_due() && !m_pending)));
+            });
             if (m_quit) return;
             if (m_pending) {
                 request = std::move(*m_pending);
@@ -169,9 +186,24 @@ void ProgressiveRenderer::drive() {
             }
             if (on_publish) on_publish();
         }
+        bool idle_denoise = false;
         {
             std::lock_guard<std::mutex> lock(m_mutex);
-            if (m_quit || m_pending || !has_request || !should_render()) continue;
+            if (m_quit || m_pending || !has_request) continue;
+            if (!should_render()) {
+                // Stopped (paused, target reached): denoise the film as it is, once, if asked to.
+                idle_denoise = denoise_due() && generation == m_generation;
+                if (!idle_denoise) continue;
+            }
+        }
+        if (idle_denoise) {
+            bool reached;
+            {
+                std::lock_guard<std::mutex> lock(m_mutex);
+                reached = target_reached();
+            }
+            publish(generation, reached, /*force_denoise=*/true);
+            continue;
         }
         // A cancelled pass leaves a partial film; the pending request restarts it before anything is published.
         if (!m_renderer.render_pass(&m_cancel)) continue;
@@ -208,7 +240,42 @@ double ProgressiveRenderer::seconds_to_threshold(float threshold) const {
     return passes * st.last_pass_seconds;
 }
 
-void ProgressiveRenderer::publish(uint64_t generation, bool target_reached) {
+void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
+    bool on;
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        on = m_denoise;
+    }
+    if (!on) {
+        m_denoised.clear();
+        m_denoised_generation = 0;
+        return;
+    }
+    const Film& film = m_renderer.film();
+    const uint32_t spp = m_renderer.stats().spp;
+    const auto now = std::chrono::steady_clock::now();
+    // At most a third of the driver's time goes to the filter while rendering; always when stopped or forced.
+    const bool stale = m_denoised_generation != generation;
+    const bool due =
+        force || stale || std::chrono::duration<double>(now - m_denoise_end).count() >= 2.0 * m_denoise_seconds;
+    if (!due || (m_denoised_generation == generation && m_denoised_spp == spp)) return;
+    if (m_features_generation != generation || m_features.width != film.width() || m_features.height != film.height()) {
+        const SceneView view{&m_renderer.scene(), &m_renderer.materials(), &m_renderer.accel(), &m_renderer.lights(),
+                             &m_renderer.environment()};
+        m_features =
+            render_features(view, m_renderer.camera(), film.width(), film.height(), 4, m_renderer.settings().seed);
+        m_features_generation = generation;
+    }
+    const Image denoised = denoise_atrous(film.mean(), film.variance_of_mean(), m_features);
+    m_denoised = denoised.rgb;
+    m_denoised_generation = generation;
+    m_denoised_spp = spp;
+    m_denoise_end = std::chrono::steady_clock::now();
+    m_denoise_seconds = std::chrono::duration<double>(m_denoise_end - now).count();
+}
+
+void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool force_denoise) {
+    update_denoised(generation, force_denoise || target_reached);
     // Fill the back buffer outside any lock, then swap it in: the UI's copy never waits for this loop.
     const Film& film = m_renderer.film();
     const RenderStats& st = m_renderer.stats();
@@ -233,6 +300,15 @@ void ProgressiveRenderer::publish(uint64_t generation, bool target_reached) {
         if (is_adaptive_checkpoint(st.spp) && st.spp >= a.min_spp && mask.worst_rel_mse() > 0.0)
             m_error_history.emplace_back(double(st.spp), mask.worst_rel_mse());
         s.seconds_to_threshold = mask.converged() ? 0.0 : seconds_to_threshold(a.noise_threshold);
+    }
+    if (!m_denoised.empty() && m_denoised_generation == generation) {
+        s.denoised = m_denoised;
+        s.denoised_spp = m_denoised_spp;
+        s.denoise_ms = m_denoise_seconds * 1e3;
+    } else {
+        s.denoised.clear();
+        s.denoised_spp = 0;
+        s.denoise_ms = 0.0;
     }
     s.camera = m_renderer.camera().desc();
     s.settings = m_renderer.settings();

@@ -12,6 +12,7 @@
 #include <optional>
 #include <thread>
 
+#include "core/aov.h"
 #include "core/partial.h"
 #include "core/renderer.h"
 
@@ -50,6 +51,12 @@ struct Snapshot {
     // active pixel's filtered error against samples over the last checkpoints, at the current pass time.
     double active_fraction = 1.0;
     double seconds_to_threshold = -1.0;
+    // With set_denoise(true): the a-trous denoised mean (core/denoise_atrous.h) of this accumulation at
+    // denoised_spp samples (it lags spp while rendering: the filter runs at most a third of the time), and the
+    // filter's last time. Empty when off or not made yet. rel_mse and every other figure stay the noisy image's.
+    std::vector<float> denoised;
+    uint32_t denoised_spp = 0;
+    double denoise_ms = 0.0;
     CameraDesc camera;
     RenderSettings settings;
     Metadata metadata;  // render_metadata() of this accumulation, for EXR snapshots
@@ -77,6 +84,9 @@ public:
     uint64_t restart(const RenderRequest& request);
     // Pausing stops after the pass in flight (which is still published); resuming continues the accumulation.
     void set_paused(bool paused);
+    // Denoised snapshots (Snapshot::denoised) on or off; never restarts or touches the accumulation. Turned on
+    // while rendering has stopped, the driver denoises the current film once and publishes it.
+    void set_denoise(bool on);
     // Stops rendering (target_reached) once spp >= target_spp or seconds >= target_seconds, or once every pixel has
     // reached the request's noise threshold; 0 = no target.
     void set_target(uint32_t target_spp, double target_seconds);
@@ -107,7 +117,10 @@ private:
     bool target_reached() const;
     bool should_render() const;
     bool partial_due() const;  // a requested partial render can be made now
-    void publish(uint64_t generation, bool target_reached);
+    bool denoise_due() const;  // denoising is on and the film's last state has not been denoised
+    void publish(uint64_t generation, bool target_reached, bool force_denoise = false);
+    // On the driver thread: refreshes m_denoised for the current film when due (or forced).
+    void update_denoised(uint64_t generation, bool force);
     double seconds_to_threshold(float threshold) const;
 
     std::shared_ptr<const Scene> m_scene;
@@ -122,11 +135,21 @@ private:
     bool m_paused = false;
     bool m_quit = false;
     bool m_partial_requested = false;
+    bool m_denoise = false;
     uint32_t m_target_spp = 0;
     double m_target_seconds = 0.0;
     std::function<void()> m_on_publish;
     // (spp, worst active relative MSE) at the adaptive checkpoints of the current accumulation; driver thread.
     std::vector<std::pair<double, double>> m_error_history;
+    // Denoising state, driver thread only: features of the accumulation's camera and size, the last denoised
+    // image, what it was made from, and the filter's timing (for the throttle).
+    FeatureImage m_features;
+    uint64_t m_features_generation = 0;
+    std::vector<float> m_denoised;
+    uint64_t m_denoised_generation = 0;
+    uint32_t m_denoised_spp = 0;
+    double m_denoise_seconds = 0.0;
+    std::chrono::steady_clock::time_point m_denoise_end{};
 
     // The published snapshot, under m_snapshot_mutex; the driver fills m_back outside it.
     mutable std::mutex m_snapshot_mutex;

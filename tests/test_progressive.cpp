@@ -260,4 +260,49 @@ TEST(ProgressiveAdaptive, StopsWhenEveryPixelReachesTheThreshold) {
     EXPECT_LT(lo, hi);
 }
 
+// ---------------------------------------------------------------- the viewer's denoise toggle
+// Turning denoising on after rendering has stopped wakes the driver once: the same accumulation (generation, spp,
+// noisy mean bit for bit) comes back with its a-trous image at that spp; nothing is restarted or re-rendered.
+TEST(ProgressiveDenoise, StoppedAccumulationIsDenoisedWithoutRestart) {
+    ProgressiveRenderer pr(cornell(), kThreads);
+    pr.set_target(4, 0.0);
+    const uint64_t g = pr.restart(request(24, 16));
+    ASSERT_TRUE(pr.wait_for(g, 4, 10s));
+    Snapshot before;
+    ASSERT_TRUE(pr.latest(before));
+    EXPECT_TRUE(before.denoised.empty());
+    pr.set_denoise(true);
+    Snapshot s = before;
+    for (int i = 0; i < 500 && s.denoised.empty(); ++i) {
+        std::this_thread::sleep_for(10ms);
+        pr.latest(s);
+    }
+    ASSERT_EQ(s.denoised.size(), s.rgb.size());
+    EXPECT_EQ(s.generation, g);
+    EXPECT_EQ(s.spp, 4u);
+    EXPECT_EQ(s.denoised_spp, 4u);
+    EXPECT_EQ(s.rgb, before.rgb);  // the accumulation is untouched
+    for (float v : s.denoised) EXPECT_TRUE(std::isfinite(v) && v >= 0.f);
+    EXPECT_NE(s.denoised, s.rgb);  // it did filter
+}
+
+// While rendering, denoised images follow the accumulation (lagging at most while the filter is throttled) and the
+// target's last pass is always denoised.
+TEST(ProgressiveDenoise, RenderingPublishesDenoisedImagesAndTheFinalOne) {
+    ProgressiveRenderer pr(cornell(), kThreads);
+    pr.set_denoise(true);
+    pr.set_target(6, 0.0);
+    const uint64_t g = pr.restart(request(24, 16));
+    Snapshot s;
+    for (int i = 0; i < 1000 && !(s.target_reached && s.denoised_spp == s.spp); ++i) {
+        pr.wait_for(g, s.spp + 1, 10ms);
+        pr.latest(s);
+    }
+    ASSERT_TRUE(s.target_reached);
+    EXPECT_EQ(s.spp, 6u);
+    EXPECT_EQ(s.denoised_spp, 6u);
+    ASSERT_EQ(s.denoised.size(), s.rgb.size());
+    pr.set_denoise(false);
+}
+
 }  // namespace pv

@@ -117,11 +117,13 @@ DisplayPass::~DisplayPass() {
     glDeleteProgram(m_program);
 }
 
-void DisplayPass::upload(const Snapshot& s) {
+void DisplayPass::upload(const Snapshot& s, bool denoised) {
     if (s.width <= 0 || s.height <= 0) return;
     const bool realloc = s.width != m_width || s.height != m_height;
     // Rows of 3 or 1 floats are multiples of 4 bytes: the default unpack alignment fits.
-    upload_texture(m_tex_color, realloc, GL_RGB32F, GL_RGB, s.width, s.height, s.rgb.data());
+    const bool use_denoised = denoised && s.denoised.size() == s.rgb.size();
+    upload_texture(m_tex_color, realloc, GL_RGB32F, GL_RGB, s.width, s.height,
+                   use_denoised ? s.denoised.data() : s.rgb.data());
     upload_texture(m_tex_error, realloc, GL_R32F, GL_RED, s.width, s.height, s.rel_error.data());
     upload_texture(m_tex_samples, realloc, GL_R32F, GL_RED, s.width, s.height, s.samples.data());
     if (realloc) {

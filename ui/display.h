@@ -20,8 +20,11 @@ struct DisplayParams {
     float exposure = 0.f;  // stops
     ToneMap tone_map = ToneMap::Aces;
     View view = View::Colour;
+    // Show the snapshot's a-trous denoised image (Snapshot::denoised) in the colour view when there is one. The
+    // viewer turns the driver's denoising on and off with it; the accumulation is never touched.
+    bool denoise = false;
     bool operator==(const DisplayParams& o) const {
-        return exposure == o.exposure && tone_map == o.tone_map && view == o.view;
+        return exposure == o.exposure && tone_map == o.tone_map && view == o.view && denoise == o.denoise;
     }
     bool operator!=(const DisplayParams& o) const { return !(*this == o); }
 };
@@ -40,8 +43,9 @@ public:
     DisplayPass(const DisplayPass&) = delete;
     DisplayPass& operator=(const DisplayPass&) = delete;
 
-    // Copies the snapshot's images into the textures (reallocated when the size changes).
-    void upload(const Snapshot& snapshot);
+    // Copies the snapshot's images into the textures (reallocated when the size changes); the colour texture gets
+    // the denoised image when `denoised` and the snapshot has one.
+    void upload(const Snapshot& snapshot, bool denoised = false);
     // Draws into the rectangle (x, y, w, h) of the default framebuffer, in pixels from the bottom-left.
     void draw(int x, int y, int w, int h, const DisplayParams& params);
     bool has_image() const { return m_width > 0; }

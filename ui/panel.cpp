@@ -86,7 +86,7 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
     if (ImGui::CollapsingHeader("Progress", ImGuiTreeNodeFlags_DefaultOpen)) progress(state, facts, act);
     if (ImGui::CollapsingHeader("Convergence", ImGuiTreeNodeFlags_DefaultOpen)) convergence(facts);
     if (ImGui::CollapsingHeader("Estimator", ImGuiTreeNodeFlags_DefaultOpen)) estimator(state, act);
-    if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) display(state);
+    if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) display(state, facts);
     if (ImGui::CollapsingHeader("Snapshot", ImGuiTreeNodeFlags_DefaultOpen)) snapshots(state, act);
     const bool light_open = ImGui::CollapsingHeader("Light");
     log_widget("light_header");
@@ -251,8 +251,18 @@ void Panel::bookmarks(ViewState& state, PanelActions& act) {
     if (!state.bookmark_status.empty()) status_text(state.bookmark_status, state.bookmark_ok);
 }
 
-void Panel::display(ViewState& state) {
+void Panel::display(ViewState& state, const PanelFacts& facts) {
     DisplayParams& d = state.display;
+    ImGui::Checkbox("denoise (a-trous, display only)", &d.denoise);
+    log_widget("denoise");
+    if (d.denoise && facts.snapshot) {
+        const Snapshot& s = *facts.snapshot;
+        if (s.denoised.empty())
+            ImGui::TextDisabled("denoising ...");
+        else
+            ImGui::TextWrapped("showing: DENOISED, %u of %u spp, %.0f ms (the errors above are the noisy image's)",
+                               s.denoised_spp, s.spp, s.denoise_ms);
+    }
     ImGui::SliderFloat("exposure", &d.exposure, -10.f, 10.f, "%+.1f stops");
     int tone = static_cast<int>(d.tone_map);
     if (ImGui::Combo("tone map", &tone, "clamp\0Reinhard (luminance)\0ACES filmic\0")) d.tone_map = ToneMap(tone);

@@ -80,7 +80,7 @@ private:
     void progress(ViewState& state, const PanelFacts& facts, PanelActions& act);
     void convergence(const PanelFacts& facts);
     void estimator(ViewState& state, PanelActions& act);
-    void display(ViewState& state);
+    void display(ViewState& state, const PanelFacts& facts);
     void camera(ViewState& state, CameraController& camera, PanelActions& act);
     void materials(ViewState& state, PanelActions& act);
     void snapshots(ViewState& state, PanelActions& act);

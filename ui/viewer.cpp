@@ -127,6 +127,7 @@ private:
     double m_last_frame = -1.0;
     int m_settle_frames = 0;
     bool m_minimised = false;
+    bool m_denoising = false;  // the driver's denoising, as last set from m_state.display.denoise
 };
 
 Viewer::Viewer(const ViewerOptions& o) : m_opt(o), m_log(o.log_file) {
@@ -188,6 +189,7 @@ LoadedScene Viewer::load_first_scene() {
 void Viewer::use_scene(LoadedScene loaded) {
     loaded.renderer->set_on_publish([] { glfwPostEmptyEvent(); });
     loaded.renderer->set_paused(m_state.paused);
+    loaded.renderer->set_denoise(m_denoising);
     loaded.renderer->set_target(uint32_t(m_state.target_spp), double(m_state.target_seconds));
     m_renderer = std::move(loaded.renderer);
     m_scene = std::move(loaded.scene);
@@ -277,7 +279,7 @@ bool Viewer::wait_for_work() {
     if (m_renderer->latest(m_incoming) && m_incoming.generation >= m_shown.generation) {
         std::swap(m_shown, m_incoming);
         m_incoming.serial = m_shown.serial;  // latest() copies only what is newer than this
-        m_display->upload(m_shown);
+        m_display->upload(m_shown, m_state.display.denoise);
         if (m_shown.generation != m_history_generation) {
             m_history.clear();
             m_history_generation = m_shown.generation;
@@ -331,6 +333,12 @@ int Viewer::run() {
         facts.level = m_schedule.level();
         facts.frame_ms = m_frame_stats.last_ms();
         PanelActions act = m_panel.draw(m_state, *m_camera, facts, kPanelWidth);
+        if (m_state.display.denoise != m_denoising) {  // a display change: the accumulation is not restarted
+            m_denoising = m_state.display.denoise;
+            m_renderer->set_denoise(m_denoising);
+            m_display->upload(m_shown, m_denoising);
+            m_log.line("denoise %d", int(m_denoising));
+        }
 
         // 3. Camera and shortcuts where ImGui does not want the mouse or keyboard; scene loads, bookmarks, saves.
         const NavigationResult nav = m_navigation.handle(m_input, navigation_frame(dt), *m_camera, m_state, act);
