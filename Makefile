@@ -64,7 +64,6 @@ test-slurm: build
 # Sanitizer builds: no viewer, no micro-benchmarks; RelWithDebInfo for readable reports. The ASan+UBSan build uses
 # clang with libFuzzer instrumentation so that the suite and the fuzzer share one build (build-asan-fuzz).
 SAN_FLAGS := -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPATHVIEW_BUILD_UI=OFF -DPATHVIEW_BUILD_MICROBENCH=OFF -DPATHVIEW_WERROR=ON
-FUZZ_SECONDS ?= 40
 
 # The suite under ASan+UBSan (suites whose name ends in Slow skipped), then the renderer's threading suites
 # (names starting with Threading or Progressive) under TSan. TBB and Embree are not built with TSan: core/tsan.h
@@ -87,17 +86,19 @@ test-tsan: deps
 	cd build-tsan && TSAN_OPTIONS="suppressions=$(CURDIR)/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
 	  ctest --output-on-failure -j $(JOBS) -R '(^|/)(Threading|Progressive)'
 
-# libFuzzer under ASan+UBSan, FUZZ_SECONDS each (fixed seed, so a run is reproducible up to the time limit), from
-# the seed corpora in tests/fuzz (only read; new inputs go to build-asan-fuzz/corpus-*): the OBJ import path
-# (corpus), the image loaders (corpus-image: seeds and the issue-15 reproducers) and the JSON scene reader
-# (corpus-json). A crash input is written to ./crash-*. Three fuzzers at 40 s keep `make test` within budget.
-FUZZERS := fuzz_obj:corpus fuzz_image:corpus-image fuzz_scene_json:corpus-json
+# libFuzzer under ASan+UBSan from the seed corpora in tests/fuzz (only read; new inputs go to
+# build-asan-fuzz/corpus-*.new): the OBJ import path (corpus), the image loaders (corpus-image: seeds, the issue-15
+# reproducers and every crash found since) and the JSON scene reader (corpus-json). A fixed seed and a fixed number
+# of runs per fuzzer (about 30 s each on these machines; FUZZ_SECONDS caps the time), so a run is deterministic for
+# a given build: CI repeats exactly what was run before submitting, and a crash input (./crash-*) reproduces.
+FUZZ_SECONDS ?= 120
+FUZZERS := fuzz_obj:corpus:150000 fuzz_image:corpus-image:150000 fuzz_scene_json:corpus-json:400000
 test-fuzz: build-asan-fuzz
-	@set -e; for f in $(FUZZERS); do name=$${f%%:*}; seeds=$${f#*:}; \
+	@set -e; for f in $(FUZZERS); do name=$${f%%:*}; rest=$${f#*:}; seeds=$${rest%%:*}; runs=$${rest#*:}; \
 	  rm -rf build-asan-fuzz/$$seeds.new && mkdir -p build-asan-fuzz/$$seeds.new; \
-	  echo "make test-fuzz: $$name for $(FUZZ_SECONDS) s from tests/fuzz/$$seeds"; \
-	  ./build-asan-fuzz/tests/fuzz/$$name -seed=1 -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
-	    -print_final_stats=1 build-asan-fuzz/$$seeds.new tests/fuzz/$$seeds; \
+	  echo "make test-fuzz: $$name, $$runs runs from tests/fuzz/$$seeds"; \
+	  ./build-asan-fuzz/tests/fuzz/$$name -seed=1 -runs=$$runs -max_total_time=$(FUZZ_SECONDS) -timeout=10 \
+	    -rss_limit_mb=2048 -print_final_stats=1 build-asan-fuzz/$$seeds.new tests/fuzz/$$seeds; \
 	done
 
 bench: build

@@ -307,6 +307,10 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
     if (!stbi_info_from_memory(data, int(bytes.size()), &w, &h, &n))
         throw Error(path + ": cannot read image: " + readable_reason(stbi_failure_reason()));
     check_declared_size(path, w, h, bytes.size(), pixels_per_byte(format));
+    // stb_image 2.27's 16-bit PNM reader crashed (SEGV inside stbi_load_from_file) on a truncated 153-byte P5 file
+    // found by fuzz_image (tests/fuzz/corpus-image/regression_pnm16_truncated.pgm): refuse 16-bit PNM up front.
+    if (format == Format::Pnm && stbi_is_16_bit_from_memory(data, int(bytes.size())))
+        throw Error(path + ": 16-bit PGM/PPM (maxval above 255) is not supported; convert it to 8 bits, PNG or EXR");
 
     if (format == Format::Hdr) {
         std::unique_ptr<float, StbFree> px(stbi_loadf_from_memory(data, int(bytes.size()), &w, &h, &n, 4));
