@@ -7,14 +7,13 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfStringAttribute.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <unistd.h>
 
 #include <filesystem>
 
 #include "core/error.h"
 #include "core/exr_io.h"
+#include "core/parallel.h"
 #include "core/surface.h"
 
 namespace pv {
@@ -84,7 +83,7 @@ FeatureImage render_features(const SceneView& view, const Camera& camera, int wi
     img.normal.assign(n, vec3(0.f));
     img.depth.assign(n, 0.f);
     const float inv = 1.f / float(std::max(samples, 1));
-    tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+    parallel_for_range(0, height, [&](const tbb::blocked_range<int>& rows) {
         enable_ftz_daz();
         // Independent of the render's samples: a sampler of its own seed.
         Sampler sampler(seed ^ 0x41f0u, SamplerKind::Independent);

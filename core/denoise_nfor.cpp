@@ -1,12 +1,11 @@
 // core/denoise_nfor.cpp: cross-filtered first-order regression with per-pixel bandwidth selection (see the header).
 #include "core/denoise_nfor.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
+
+#include "core/parallel.h"
 
 namespace pv {
 namespace {
@@ -104,7 +103,7 @@ void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& ta
     const int w = p.w, h = p.h;
     out.assign(target.size(), vec3(0.f));
     const std::vector<float> sv = smoothed_variance(w, h, var_g), floor = variance_floor(w, h, var_g);
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+    parallel_for_range(0, h, [&](const tbb::blocked_range<int>& rows) {
         Eigen::Matrix<double, kCols, kCols> xtx;
         Eigen::Matrix<double, kCols, 3> xty;
         Eigen::Matrix<double, kCols, 1> row;
