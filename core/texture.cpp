@@ -102,6 +102,15 @@ Texture::Texture(int width, int height, std::vector<vec4> texels)
     m_texels = std::vector<vec4>();
 }
 
+Texture::Texture(int width, int height, std::vector<uint32_t> codes)
+    : m_width(width), m_height(height), m_codes(std::move(codes)) {
+    for (const uint32_t c : m_codes)
+        if ((c >> 24) < 255u) {
+            m_has_alpha = true;
+            break;
+        }
+}
+
 std::vector<vec4> Texture::texels() const {
     if (m_codes.empty()) return m_texels;
     std::vector<vec4> out(m_codes.size());
@@ -302,6 +311,10 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
     if (bytes.size() > size_t(std::numeric_limits<int>::max() - int(kPadding)))
         throw Error(path + ": the file is too large for stb_image (2 GiB)");
     bool truncated = false;
+    auto finish = [&](Texture t) {
+        if (truncated) warn("the image data ends early (truncated file?); missing pixels are black");
+        return t;
+    };
     if (format == Format::Hdr) validate_hdr(path, bytes, truncated);
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     if (!stbi_info_from_memory(data, int(bytes.size()), &w, &h, &n))
@@ -328,16 +341,16 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
         truncated = uint64_t(std::ftell(f.get())) > size;
         f.reset();
         bytes = std::string();
-        const float* table = srgb_table();
+        // Kept as the file's 8-bit codes (4 bytes a texel), not decoded to floats and recognised again.
         const stbi_uc* q = px.get();
-        texels.resize(size_t(w) * size_t(h));
-        for (size_t i = 0; i < texels.size(); ++i)
-            texels[i] = vec4(table[q[4 * i]], table[q[4 * i + 1]], table[q[4 * i + 2]], float(q[4 * i + 3]) / 255.f);
-        if (alpha_only && (n == 1 || n == 3))
-            for (size_t i = 0; i < texels.size(); ++i) texels[i].w = float(q[4 * i]) / 255.f;
+        const bool alpha_from_grey = alpha_only && (n == 1 || n == 3);
+        std::vector<uint32_t> codes(size_t(w) * size_t(h));
+        for (size_t i = 0; i < codes.size(); ++i)
+            codes[i] = uint32_t(q[4 * i]) | uint32_t(q[4 * i + 1]) << 8 | uint32_t(q[4 * i + 2]) << 16 |
+                       uint32_t(q[4 * i + (alpha_from_grey ? 0 : 3)]) << 24;
+        return finish(Texture(w, h, std::move(codes)));
     }
-    if (truncated) warn("the image data ends early (truncated file?); missing pixels are black");
-    return Texture(w, h, std::move(texels));
+    return finish(Texture(w, h, std::move(texels)));
 }
 
 vec4 Texture::lookup(vec2 uv) const {

@@ -19,6 +19,9 @@ public:
     static constexpr float kMaxTexel = 1e20f;
     // Builds from linear RGBA texels, row 0 at the top (sanitised as above).
     Texture(int width, int height, std::vector<vec4> texels);
+    // From 8-bit texels as image files hold them: R, G, B (sRGB codes) and A (linear) from the low byte up, kept as
+    // they are (a lookup decodes them; the same values as the float constructor gives for their decodings).
+    Texture(int width, int height, std::vector<uint32_t> codes);
 
     // Loads PNG/JPG/TGA/BMP/PSD/GIF/PNM (sRGB colour, linear alpha) through stb_image, Radiance HDR (linear)
     // through stb_image after checking its run-length data, or EXR (linear RGB, negatives and NaN set to 0) through
