@@ -53,10 +53,20 @@ struct BenchSeries {
     SlopeFit slope_spp, slope_time;  // log-log fits of mean relMSE
 };
 
+// The reference every error is measured against.
+struct Reference {
+    Image image;
+    double expected_rel_mse = -1.0;  // its own estimated error (< 0: unknown)
+    std::string origin;
+};
+
 // A pipe table (Markdown-compatible) of every point of every series.
 void print_points_table(const std::vector<BenchSeries>& series);
 // With --denoise: noisy and denoised relMSE and the filters' times at every point.
 void print_denoise_table(const std::vector<BenchSeries>& series);
+// The equal-time table (relMSE of each series interpolated log-log at the longest time all reached, against the
+// mis/rr/ind baseline) and the reference check (its own error against the smallest measured one).
+void print_summary(const std::vector<BenchSeries>& all, const Reference& ref);
 void write_csv(const std::string& path, const std::string& scene, const std::vector<BenchSeries>& series);
 // Two log-log panels (relMSE against seconds and against spp), one curve per configuration with the min-max
 // spread over seeds as bars, and a slope -1 guide in each panel.

@@ -1,4 +1,5 @@
-// app/bench_report.cpp: configuration names and the table, CSV and SVG writers of `pathview bench`.
+// app/bench_report.cpp: configuration names and the table, equal-time summary, CSV and SVG writers of
+// `pathview bench`.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -245,6 +246,54 @@ void write_svg(const std::string& path, const std::string& title, const std::vec
       << ly + 24 << "' font-size='10' fill='#555'>over seeds</text>\n";
     o << "</svg>\n";
     write_file(path, o.str());
+}
+
+void print_summary(const std::vector<BenchSeries>& all, const Reference& ref) {
+    // Equal time: the longest time every configuration reached, relMSE interpolated log-log between its points.
+    double t_common = 1e300;
+    for (const BenchSeries& s : all) t_common = std::min(t_common, s.points.back().seconds.mean);
+    const BenchSeries* baseline = &all.front();
+    for (const BenchSeries& s : all)
+        if (s.config.name == "mis/rr/ind") baseline = &s;
+    auto at_t = [&](const BenchSeries& s, bool trimmed) {
+        std::vector<double> x, y;
+        for (const BenchPoint& p : s.points)
+            x.push_back(p.seconds.mean), y.push_back(trimmed ? p.rel_mse_trimmed.mean : p.rel_mse.mean);
+        return interpolate_loglog(x, y, t_common).value_or(y.back());
+    };
+    const double base_err = at_t(*baseline, false), base_trim = at_t(*baseline, true);
+    std::printf("\n### Equal time: relMSE at %.3f s (interpolated log-log between power-of-two spp points)\n\n",
+                t_common);
+    std::printf(
+        "| config | relMSE at %.3g s | relative to %s | trimmed relMSE (top 0.1%% dropped) | relative | spp "
+        "reached in budget | seconds | slope vs spp | slope vs time | Mrays/s | rays/sample | path length |\n",
+        t_common, baseline->config.name.c_str());
+    std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for (const BenchSeries& s : all) {
+        const BenchPoint& last = s.points.back();
+        const double e = at_t(s, false), et = at_t(s, true);
+        std::printf("| %s | %.4g | %.3f | %.4g | %.3f | %u | %.3f | %.2f | %.2f | %.2f | %.2f | %.2f |\n",
+                    s.config.name.c_str(), e, e / base_err, et, et / base_trim, last.spp, last.seconds.mean,
+                    s.slope_spp.slope, s.slope_time.slope, last.mrays_per_s, last.rays_per_sample,
+                    last.mean_path_length);
+    }
+    // The reference check: its own error must be far below the smallest error measured against it.
+    double smallest = 1e300;
+    for (const BenchSeries& s : all)
+        for (const BenchPoint& p : s.points) smallest = std::min(smallest, p.rel_mse.mean);
+    std::printf("\nReference: %s\n", ref.origin.c_str());
+    if (ref.expected_rel_mse < 0) {
+        std::printf(
+            "WARNING: the reference's own error is unknown (no pathview:expected_rel_mse in the EXR); "
+            "errors below its noise cannot be trusted.\n");
+    } else {
+        const double ratio = ref.expected_rel_mse / smallest;
+        std::printf("Reference's estimated relMSE %.3g = %.1f%% of the smallest measured relMSE %.3g: %s\n",
+                    ref.expected_rel_mse, 100.0 * ratio, smallest,
+                    ratio <= 0.1 ? "converged enough (<= 10%)"
+                                 : "WARNING: NOT converged enough (> 10%): the smallest errors and the slopes are "
+                                   "inflated by the reference's noise; raise --reference-spp");
+    }
 }
 
 }  // namespace pv::app

@@ -11,6 +11,7 @@
 #include <mutex>
 
 #include "app/commands.h"
+#include "app/progress.h"
 #include "core/aov.h"
 #include "core/denoise_atrous.h"
 #include "core/denoise_nfor.h"
@@ -100,12 +101,11 @@ SampleRange parse_samples(const std::string& text) {
     return r[0];
 }
 
-void progress_bar(double fraction, uint32_t spp, double seconds) {
-    const int width = 30;
-    const int filled = static_cast<int>(std::min(1.0, fraction) * width);
-    std::fprintf(stderr, "\r[%.*s%.*s] %3d%%  %u spp  %.1f s", filled, "==============================", width - filled,
-                 "                              ", static_cast<int>(std::min(1.0, fraction) * 100.0), spp, seconds);
-    std::fflush(stderr);
+// The progress bar's text: "64 spp  1.2 s".
+std::string spp_and_seconds(uint32_t spp, double seconds) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%u spp  %.1f s", spp, seconds);
+    return text;
 }
 
 void run(RenderOptions& o) {
@@ -199,24 +199,18 @@ void run(RenderOptions& o) {
     if (samples) renderer.set_next_sample(samples->start);
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    double last_draw = -1.0;
+    ProgressBar bar(!o.quiet);
     for (;;) {
         const double t = elapsed();
         const RenderStats& st = renderer.stats();
         if (o.spp && st.spp >= static_cast<uint32_t>(*o.spp)) break;
         if (o.seconds && t >= *o.seconds && st.spp > 0) break;
         if (renderer.converged()) break;
-        if (tty && t - last_draw > 0.1) {
-            const double f = o.spp ? double(st.spp) / *o.spp : t / *o.seconds;
-            progress_bar(f, st.spp, t);
-            last_draw = t;
-        }
+        if (bar.enabled()) bar.draw(o.spp ? double(st.spp) / *o.spp : t / *o.seconds, spp_and_seconds(st.spp, t));
         renderer.render_pass();
     }
-    if (tty) {
-        progress_bar(1.0, renderer.stats().spp, elapsed());
-        std::fprintf(stderr, "\n");
-    }
+    bar.draw(1.0, spp_and_seconds(renderer.stats().spp, elapsed()));
+    bar.finish();
 
     // AOVs and the denoiser: a first-hit feature pass after the render (the render loop itself is unchanged).
     Image image = renderer.film().mean();
