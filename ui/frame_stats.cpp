@@ -39,4 +39,11 @@ void FrameStats::log_if_due(ViewLog& log, const Snapshot& s) {
     m_ms_sum = m_ms_max = m_cpu_ms_sum = 0.0;
 }
 
+void log_frames_shown(ViewLog& log, RefinementSchedule& schedule, const Snapshot& shown, double end) {
+    for (const RefinementSchedule::PendingFrame& p : schedule.shown(shown.generation))
+        log.line("frame gen=%llu shown_gen=%llu latency_ms=%.1f reason=%s size=%dx%d spp=%u",
+                 (unsigned long long)p.generation, (unsigned long long)shown.generation, (end - p.since) * 1e3,
+                 p.reason.c_str(), shown.width, shown.height, shown.spp);
+}
+
 }  // namespace pv::ui

@@ -1,9 +1,10 @@
 // ui/frame_stats.h: the viewer's telemetry: UI frame times (wall and the UI thread's CPU time) gathered per frame,
 // and the once-a-second "stats" line of the --log-file with the accumulation on screen (the GUI test and
-// tests/gui/measure_viewer.sh read it). Window-free.
+// tests/gui/measure_viewer.sh read it), and the "frame" lines with each request's input-to-frame latency. Window-free.
 #pragma once
 
 #include "core/progressive.h"
+#include "refinement.h"
 #include "view_log.h"
 
 namespace pv::ui {
@@ -24,5 +25,9 @@ private:
     double m_ms_sum = 0.0, m_ms_max = 0.0, m_last_ms = 0.0;
     double m_cpu_ms_sum = 0.0;  // CPU time of the UI thread (Mesa's llvmpipe threads not included)
 };
+
+// Logs a "frame" line (generation, latency since its input event, reason, size, spp) for every request the
+// snapshot on screen completes (RefinementSchedule::shown), `end` being the time the frame was on screen.
+void log_frames_shown(ViewLog& log, RefinementSchedule& schedule, const Snapshot& shown, double end);
 
 }  // namespace pv::ui

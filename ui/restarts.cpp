@@ -1,0 +1,55 @@
+// ui/restarts.cpp: restart requests (see restarts.h).
+#include "restarts.h"
+
+#include <algorithm>
+
+#include "core/error.h"
+
+namespace pv::ui {
+
+std::string restart_reason(const PanelActions& act, bool camera_moved, bool resized) {
+    std::string reason;
+    auto add = [&](const char* r) { reason += (reason.empty() ? "" : ",") + std::string(r); };
+    if (camera_moved || act.camera_changed || act.frame_all || act.reset_camera) add("camera");
+    if (act.settings_changed) add("settings");
+    if (act.materials_changed) add("material");
+    if (act.environment_changed) add("environment");
+    if (resized) add("resize");
+    if (act.restart) add("restart");
+    return reason;
+}
+
+RenderRequest make_request(const ViewState& state, const CameraDesc& camera, int full_w, int full_h, int level,
+                           bool with_materials, bool with_environment) {
+    RenderRequest req;
+    if (with_environment) req.environment = state.environment;
+    req.camera = camera;
+    req.settings = state.settings;
+    req.adaptive = state.adaptive;
+    req.width = std::max(1, full_w / level);
+    req.height = std::max(1, full_h / level);
+    if (with_materials) req.materials = state.materials;
+    return req;
+}
+
+void post_restart(ProgressiveRenderer& renderer, RefinementSchedule& schedule,
+                  const RefinementSchedule::Restart& restart, const RenderRequest& request, ViewLog& log, double now) {
+    uint64_t generation = 0;
+    try {
+        generation = renderer.restart(request);
+    } catch (const Error& e) {
+        log.line("restart-error %s", e.what());
+        return;
+    }
+    schedule.posted(generation, restart, now);
+    log.line("restart gen=%llu reason=%s size=%dx%d level=%d %s", (unsigned long long)generation,
+             restart.reason.c_str(), request.width, request.height, schedule.level(),
+             request.settings.describe().c_str());
+}
+
+void apply_controls(ProgressiveRenderer& renderer, const ViewState& state, bool minimised) {
+    renderer.set_paused(state.paused || minimised);
+    renderer.set_target(uint32_t(state.target_spp), double(state.target_seconds));
+}
+
+}  // namespace pv::ui

@@ -1,0 +1,37 @@
+// ui/snapshots.h: the Snapshots section's requests: save the accumulation on screen (Ctrl+S, "Save"), or a
+// resumable partial render once the renderer has made it; the writes run off the UI thread (snapshot_saver.h) and
+// their outcome reaches ViewState::snapshot_status and the log. Window-free.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "panel.h"
+#include "snapshot_saver.h"
+#include "view_log.h"
+
+namespace pv::ui {
+
+class Snapshots {
+public:
+    // Files go to `folder`; `wake` runs on the writing thread after each write (the viewer wakes its loop).
+    Snapshots(std::string folder, std::function<void()> wake, ViewLog& log)
+        : m_saver(std::move(folder), std::move(wake)), m_log(log) {}
+
+    // Starts saving `shown`; "nothing rendered yet" (not ok) before its first sample.
+    void save(const Snapshot& shown, ViewState& state);
+    // The user asked for a resumable snapshot (the viewer calls ProgressiveRenderer::request_partial()).
+    void resumable_requested(ViewState& state);
+    // Starts saving the partial render the renderer made, if any; true when one was started.
+    bool save_partial(std::optional<PartialRender> part, ViewState& state);
+    // Reports the writes that finished; true when the last one in flight did (the panel then needs a frame).
+    bool poll(ViewState& state);
+    bool in_flight() const { return m_saver.in_flight() > 0; }
+
+private:
+    SnapshotSaver m_saver;
+    ViewLog& m_log;
+};
+
+}  // namespace pv::ui
