@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "app/bench/raybench.h"
 #include "core/error.h"
 #include "core/image_io.h"
 
