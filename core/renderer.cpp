@@ -35,7 +35,7 @@ Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads, const std::f
     m_pool = std::make_unique<Pool>(m_threads);
     m_pool->arena.execute([&] { m_accel = std::make_unique<Accel>(*m_scene, m_materials, build_progress); });
     m_lights = LightSet(*m_scene, m_materials);
-    m_environment_settings = pv::environment_settings(*m_scene);
+    m_environment_settings = m_scene->environment;
     m_environment = Environment(*m_scene, m_environment_settings);
     m_camera = Camera(m_scene->camera, 64, 64);
 }

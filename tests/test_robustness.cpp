@@ -227,7 +227,7 @@ int expect_corner_direct_light(const ShadowCase& sc, bool nee, int samples, doub
     Material m;
     m.bsdf = Lambertian{vec3(float(rho))};
     add_corner(*scene, c, test::add_material(*scene, m));
-    scene->background = vec3(float(l_env));
+    scene->environment.background = vec3(float(l_env));
     const test::Tracer tracer(scene);
     const SceneView view = tracer.view();
     dvec3 quad[2][4];
@@ -573,7 +573,7 @@ TEST(BlackRim, LowPolySmoothSphereInFurnaceHasNoBlackOrBrightPixels) {
     Material m;
     m.bsdf = Lambertian{vec3(1.f)};
     test::add_uv_sphere(*scene, vec3(0.f), 1.f, 8, 6, test::add_material(*scene, m), /*smooth=*/true);
-    scene->background = vec3(1.f);
+    scene->environment.background = vec3(1.f);
     const test::Tracer tracer(scene);
     CameraDesc cam;
     // Zoomed on the silhouette, where the facets and the shading normals disagree most.

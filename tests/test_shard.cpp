@@ -176,7 +176,7 @@ TEST(ShardFormat, RoundTripIsExact) {
 
 TEST(ShardFormat, SceneHashSeesMaterialsEnvironmentAndGeometry) {
     const Scene& scene = *test::cornell_box();
-    const EnvironmentSettings env = environment_settings(scene);
+    const EnvironmentSettings env = scene.environment;
     const uint64_t h = scene_hash(scene, scene.materials, env);
     EXPECT_EQ(h, scene_hash(scene, scene.materials, env));
     std::vector<Material> edited = scene.materials;

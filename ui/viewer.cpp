@@ -198,8 +198,8 @@ void Viewer::use_scene(LoadedScene loaded) {
     m_camera = std::make_unique<CameraController>(m_scene->camera, lo, hi);
     m_state.materials = m_scene->materials;
     m_state.selected_material = -1;
-    m_environment_lit = environment_emits(*m_scene, environment_settings(*m_scene));
-    m_state.environment = environment_settings(*m_scene);
+    m_environment_lit = environment_emits(*m_scene, m_scene->environment);
+    m_state.environment = m_scene->environment;
     m_state.has_environment_map = m_scene->environment_map != kNoIndex;
     m_state.bookmarks = m_scene->bookmarks;
     m_state.bookmark_status.clear();
