@@ -194,9 +194,7 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
     FeatureImage features;  // the camera's first-hit features, for --denoise (same for every seed)
     if (o.denoise) {
         renderer.restart(camera, config.settings, o.common.width, o.common.height);
-        const SceneView view{&renderer.scene(), &renderer.materials(), &renderer.accel(), &renderer.lights(),
-                             &renderer.environment()};
-        features = render_features(view, renderer.camera(), o.common.width, o.common.height);
+        features = render_features(renderer.traceable(), renderer.camera(), o.common.width, o.common.height);
     }
     for (int seed = 0; seed < o.seeds; ++seed) {
         RenderSettings s = config.settings;
@@ -320,7 +318,8 @@ void rays_section(const BenchOptions& o, std::shared_ptr<const Scene> scene, con
     std::printf("\n### Ray-rate ceiling: %s, %dx%d, %s, %s clock\n\n", scene->source.c_str(), o.common.width,
                 o.common.height, settings.describe().c_str(), o.clock.c_str());
     std::printf("BVH: %zu triangles, build %.3f s, %.2f MiB (Embree memory monitor)\n\n", scene->triangle_count(),
-                probe.accel().stats().build_seconds, double(probe.accel().stats().bytes) / (1024.0 * 1024.0));
+                probe.traceable().accel().stats().build_seconds,
+                double(probe.traceable().accel().stats().bytes) / (1024.0 * 1024.0));
     std::printf(
         "| threads | round | path tracer Mrays/s | Embree camera | Embree bounce | Embree shadow | Embree on the "
         "path tracer's mix | fraction of ceiling | minimal kernel Mrays/s | its fraction |\n"
@@ -350,10 +349,9 @@ void rays_section(const BenchOptions& o, std::shared_ptr<const Scene> scene, con
             ro.seconds_per_kind = o.rays_seconds / 3.0;
             ro.seed = 17u + uint32_t(round);
             ro.cpu_clock = o.clock == "cpu";
-            const RayRates rates = measure_ray_rates(*scene, r.accel(), r.lights(), r.environment(), r.camera(), ro);
+            const RayRates rates = measure_ray_rates(r.traceable(), r.camera(), ro);
             const double ceiling = rates.mix_rate(mix);
-            const MinimalKernelRate mk =
-                measure_minimal_kernel(*scene, r.accel(), r.lights(), r.environment(), r.camera(), ro);
+            const MinimalKernelRate mk = measure_minimal_kernel(r.traceable(), r.camera(), ro);
             const double mk_ceiling = rates.mix_rate(mk.mix);
             fractions.push_back(pt / ceiling);
             minimal_fractions.push_back(mk.rays_per_second / mk_ceiling);
@@ -402,8 +400,8 @@ void run(BenchOptions& o) {
             "## pathview bench: %s\n\n%dx%d, %d threads, budget %.3g s (%s clock) per configuration and seed, "
             "%d seeds, max_depth %d, %zu triangles (BVH build %.3f s, %.2f MiB)\n",
             scene_name.c_str(), o.common.width, o.common.height, renderer.threads(), o.budget, o.clock.c_str(), o.seeds,
-            o.common.settings.max_depth, scene->triangle_count(), renderer.accel().stats().build_seconds,
-            double(renderer.accel().stats().bytes) / (1024.0 * 1024.0));
+            o.common.settings.max_depth, scene->triangle_count(), renderer.traceable().accel().stats().build_seconds,
+            double(renderer.traceable().accel().stats().bytes) / (1024.0 * 1024.0));
         std::fflush(stdout);
         const Reference ref = make_reference(o, renderer, camera, progress);
         renderer.set_adaptive(o.common.adaptive);  // the measured renders only, not the reference

@@ -423,10 +423,10 @@ TEST(LightSelection, TinyQuadAfterDominantQuadNeeEqualsBsdfOnly) {
         << "NEE " << r[1].mean << " +- " << r[1].se << ", BSDF-only " << r[0].mean << " +- " << r[0].se;
     // Every emitter's pmf is the probability it is sampled with: the small quad's is 0 (its share 5e-9 is below
     // the table's 2^-23 quantum), so light sampling never picks it and BSDF sampling takes it whole.
-    EXPECT_EQ(tracer.lights().pmf(2), 0.5f);  // triangles 0, 1: the receiver; 2, 3: the large quad
-    EXPECT_EQ(tracer.lights().pmf(3), 0.5f);
-    EXPECT_EQ(tracer.lights().pmf(4), 0.f);
-    EXPECT_EQ(tracer.lights().pmf(5), 0.f);
+    EXPECT_EQ(tracer.triangle_lights().pmf(2), 0.5f);  // triangles 0, 1: the receiver; 2, 3: the large quad
+    EXPECT_EQ(tracer.triangle_lights().pmf(3), 0.5f);
+    EXPECT_EQ(tracer.triangle_lights().pmf(4), 0.f);
+    EXPECT_EQ(tracer.triangle_lights().pmf(5), 0.f);
 }
 
 // DiscreteDistribution: sample() picks item i for exactly count(i) of the 2^23 values of floor(u 2^23), over every

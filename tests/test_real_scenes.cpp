@@ -64,7 +64,7 @@ vec3 radiance_at(const test::Tracer& tracer, float x, float y, uint32_t index) {
     Ray r;
     r.o = vec3(x, y, 1.f);
     r.d = vec3(0.f, 0.f, -1.f);
-    return trace_path(tracer.view(), s, r, sampler, c);
+    return trace_path(tracer, s, r, sampler, c);
 }
 
 // Moments (per channel) of `spp` samples of the radiance along one fixed ray, direct light only (max depth 1,
@@ -82,7 +82,7 @@ std::array<Moments, 3> radiance_moments(const test::Tracer& tracer, bool nee, bo
     Sampler sampler(seed, SamplerKind::Independent);
     for (int i = 0; i < spp; ++i) {
         sampler.start(uvec2(3, 4), uint32_t(i));
-        const vec3 L = trace_path(tracer.view(), s, ray, sampler, c);
+        const vec3 L = trace_path(tracer, s, ray, sampler, c);
         for (int ch = 0; ch < 3; ++ch) m[ch].add(L[ch]);
     }
     return m;
