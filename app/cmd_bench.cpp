@@ -45,8 +45,8 @@ void run(BenchOptions& o) {
             "## pathview bench: %s\n\n%dx%d, %d threads, budget %.3g s (%s clock) per configuration and seed, "
             "%d seeds, max_depth %d, %zu triangles (BVH build %.3f s, %.2f MiB)\n",
             scene_name.c_str(), o.common.width, o.common.height, renderer.threads(), o.budget, o.clock.c_str(), o.seeds,
-            o.common.settings.max_depth, scene->triangle_count(), renderer.accel().stats().build_seconds,
-            double(renderer.accel().stats().bytes) / (1024.0 * 1024.0));
+            o.common.settings.max_depth, scene->triangle_count(), renderer.traceable().accel().stats().build_seconds,
+            double(renderer.traceable().accel().stats().bytes) / (1024.0 * 1024.0));
         std::fflush(stdout);
         const Reference ref = make_reference(o, renderer, camera, progress);
         renderer.set_adaptive(o.common.adaptive);  // the measured renders only, not the reference

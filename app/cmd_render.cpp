@@ -181,7 +181,7 @@ void run(RenderOptions& o) {
     Renderer renderer(scene, o.common.threads, tty ? std::function<void(double)>(build_progress) : nullptr);
     if (tty) std::fprintf(stderr, "\r\033[K");
     if (!o.quiet) {
-        const AccelStats& as = renderer.accel().stats();
+        const AccelStats& as = renderer.traceable().accel().stats();
         std::fprintf(stderr, "pathview: loaded %zu triangles in %.2f s; BVH %.2f s, %.1f MiB (%.0f bytes/triangle)\n",
                      scene->triangle_count(), load_seconds, as.build_seconds, double(as.bytes) / (1 << 20),
                      double(as.bytes) / double(std::max<size_t>(1, scene->triangle_count())));
@@ -189,7 +189,8 @@ void run(RenderOptions& o) {
     renderer.set_adaptive(o.common.adaptive);
     renderer.restart(camera, o.common.settings, o.common.width, o.common.height);
     if (resumed) {
-        const uint64_t hash = scene_hash(renderer.scene(), renderer.materials(), renderer.environment_settings());
+        const uint64_t hash =
+            scene_hash(renderer.scene(), renderer.traceable().materials(), renderer.traceable().environment_settings());
         if (hash != resumed->id.scene_hash)
             throw Error("--resume " + o.resume + ": the scene " + path +
                         " (with the part's environment flags) is not "
@@ -222,10 +223,8 @@ void run(RenderOptions& o) {
     if (o.aovs || o.denoise) {
         // AOVs: a first-hit feature pass after the render (the render loop itself is unchanged).
         const auto aov_start = std::chrono::steady_clock::now();
-        const SceneView view{&renderer.scene(), &renderer.materials(), &renderer.accel(), &renderer.lights(),
-                             &renderer.environment()};
-        const FeatureImage features =
-            render_features(view, renderer.camera(), image.width, image.height, 8, renderer.settings().seed);
+        const FeatureImage features = render_features(renderer.traceable(), renderer.camera(), image.width,
+                                                      image.height, 8, renderer.settings().seed);
         aov_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - aov_start).count();
         if (o.denoise) {
             noisy = image;

@@ -214,7 +214,7 @@ void apply_scene_overrides(const CommonOptions& o, Scene& scene) {
         if (const std::optional<vec3> colour = parse_colour(o.environment)) {
             if (!is_finite(*colour) || glm::any(glm::lessThan(*colour, vec3(0.f))))
                 throw Error("--environment " + o.environment + ": a colour must be finite and non-negative");
-            scene.background = *colour;
+            scene.environment.background = *colour;
             scene.environment_map = kNoIndex;
         } else {
             set_environment_map(scene, o.environment);
@@ -224,16 +224,16 @@ void apply_scene_overrides(const CommonOptions& o, Scene& scene) {
             scene.warnings.erase(scene.warnings.begin() + std::ptrdiff_t(*scene.default_sky_warning));
         scene.default_sky_warning.reset();
     }
-    if (o.env_rotation) scene.environment_rotation_deg = *o.env_rotation;
-    if (o.env_strength) scene.environment_strength = *o.env_strength;
+    if (o.env_rotation) scene.environment.rotation_deg = *o.env_rotation;
+    if (o.env_strength) scene.environment.strength = *o.env_strength;
     if (o.sun.size() == 3) {
-        scene.sun_direction = vec3(o.sun[0], o.sun[1], o.sun[2]);
-        if (!(glm::length(scene.sun_direction) > 0.f)) throw Error("--sun: the direction must not be zero");
-        scene.sun_irradiance = vec3(o.sun_irradiance.value_or(5.f));
+        scene.environment.sun_direction = vec3(o.sun[0], o.sun[1], o.sun[2]);
+        if (!(glm::length(scene.environment.sun_direction) > 0.f)) throw Error("--sun: the direction must not be zero");
+        scene.environment.sun_irradiance = vec3(o.sun_irradiance.value_or(5.f));
     } else if (o.sun_irradiance) {
-        scene.sun_irradiance = vec3(*o.sun_irradiance);
+        scene.environment.sun_irradiance = vec3(*o.sun_irradiance);
     }
-    if (o.sun_radius) scene.sun_angular_radius_deg = *o.sun_radius;
+    if (o.sun_radius) scene.environment.sun_angular_radius_deg = *o.sun_radius;
 }
 
 CameraDesc set_up_scene(const CommonOptions& o, Scene& scene) {

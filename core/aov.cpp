@@ -31,17 +31,17 @@ vec3 base_color(const Bsdf& bsdf) {
 
 }  // namespace
 
-FeatureSample trace_features(const SceneView& view, Ray ray, Sampler& sampler) {
-    const Scene& scene = *view.scene;
+FeatureSample trace_features(const TraceableScene& ts, Ray ray, Sampler& sampler) {
+    const Scene& scene = ts.scene();
     FeatureSample out;
     vec3 tint(1.f);
     float travelled = 0.f;
     for (int bounce = 0; bounce < kMaxSpecularChain; ++bounce) {
         Hit hit;
-        if (!view.accel->intersect(ray, hit)) return FeatureSample{};
+        if (!ts.intersect(ray, hit)) return FeatureSample{};
         const SurfacePoint sf = surface_point(scene, hit);
         travelled += glm::length(sf.p - ray.o);
-        const Material& mat = (*view.materials)[scene.material_ids[hit.prim]];
+        const Material& mat = ts.material(hit.prim);
         const bool front = glm::dot(ray.d, sf.ng) < 0.f;
         vec3 ns = sf.ns;
         if (glm::dot(ray.d, ns) > 0.f) ns = -ns;  // facing the arriving ray
@@ -73,7 +73,7 @@ FeatureSample trace_features(const SceneView& view, Ray ray, Sampler& sampler) {
     return out;
 }
 
-FeatureImage render_features(const SceneView& view, const Camera& camera, int width, int height, int samples,
+FeatureImage render_features(const TraceableScene& ts, const Camera& camera, int width, int height, int samples,
                              uint32_t seed) {
     FeatureImage img;
     img.width = width;
@@ -92,7 +92,7 @@ FeatureImage render_features(const SceneView& view, const Camera& camera, int wi
                 FeatureSample acc;
                 for (int s = 0; s < samples; ++s) {
                     const Ray ray = camera_ray(camera, sampler, x, y, uint32_t(s));
-                    const FeatureSample f = trace_features(view, ray, sampler);
+                    const FeatureSample f = trace_features(ts, ray, sampler);
                     acc.albedo += f.albedo;
                     acc.normal += f.normal;
                     acc.depth += f.depth;

@@ -43,11 +43,11 @@ struct FeatureImage {
 
 // Follows `ray` through delta (mirror, glass) surfaces to the first rough hit; glass picks its branch with the
 // sampler's next 1D draw, so a pixel's feature samples average reflection and refraction by their weights.
-FeatureSample trace_features(const SceneView& view, Ray ray, Sampler& sampler);
+FeatureSample trace_features(const TraceableScene& ts, Ray ray, Sampler& sampler);
 
 // Features of every pixel averaged over `samples` jittered camera rays (the film's box filter, the lens too).
 // Deterministic in (pixel, sample, seed); parallel over rows.
-FeatureImage render_features(const SceneView& view, const Camera& camera, int width, int height, int samples = 8,
+FeatureImage render_features(const TraceableScene& ts, const Camera& camera, int width, int height, int samples = 8,
                              uint32_t seed = 0);
 
 // A named group of float channels of one image size: channels[k] is channel k's name; data holds

@@ -7,17 +7,6 @@
 
 namespace pv {
 
-EnvironmentSettings environment_settings(const Scene& scene) {
-    EnvironmentSettings s;
-    s.background = scene.background;
-    s.rotation_deg = scene.environment_rotation_deg;
-    s.strength = scene.environment_strength;
-    s.sun_direction = scene.sun_direction;
-    s.sun_angular_radius_deg = scene.sun_angular_radius_deg;
-    s.sun_irradiance = scene.sun_irradiance;
-    return s;
-}
-
 namespace {
 bool has_map(const Scene& scene) {
     return scene.environment_map != kNoIndex && scene.environment_map < scene.textures.size() &&

@@ -23,23 +23,6 @@ struct EnvironmentSample {
     float pdf = 0.f;
 };
 
-// The environment's adjustable parameters (the map itself stays in the Scene). Defaults come from the scene.
-struct EnvironmentSettings {
-    vec3 background{0.f};      // constant sky radiance when there is no map
-    float rotation_deg = 0.f;  // map rotation about +y
-    float strength = 1.f;      // multiplies the sky
-    vec3 sun_direction{0.f, 1.f, 0.f};
-    float sun_angular_radius_deg = 0.27f;
-    vec3 sun_irradiance{0.f};
-
-    bool operator==(const EnvironmentSettings& o) const {
-        return background == o.background && rotation_deg == o.rotation_deg && strength == o.strength &&
-               sun_direction == o.sun_direction && sun_angular_radius_deg == o.sun_angular_radius_deg &&
-               sun_irradiance == o.sun_irradiance;
-    }
-    bool operator!=(const EnvironmentSettings& o) const { return !(*this == o); }
-};
-EnvironmentSettings environment_settings(const Scene& scene);
 // True if the environment with these settings gives any light; cheap (no sampling tables are built).
 bool environment_emits(const Scene& scene, const EnvironmentSettings& settings);
 
@@ -47,7 +30,7 @@ class Environment {
 public:
     Environment() = default;
     // From the scene: its environment map if any, else its constant background; both times its strength.
-    explicit Environment(const Scene& scene) : Environment(scene, environment_settings(scene)) {}
+    explicit Environment(const Scene& scene) : Environment(scene, scene.environment) {}
     // The scene's map (if any) with other parameters.
     Environment(const Scene& scene, const EnvironmentSettings& settings);
 

@@ -34,16 +34,12 @@ std::string RenderSettings::describe() const {
            " seed=" + std::to_string(seed) + " sampler=" + sampler_name(sampler);
 }
 
-vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, Sampler& sampler,
+vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler,
                 PathCounters& counters) {
-    const Scene& scene = *view.scene;
-    const std::vector<Material>& materials = *view.materials;
-    const LightSet& lights = *view.lights;
-    const Environment& env = *view.environment;
-    const float p_env = environment_selection_probability(view);
-    const bool nee = settings.light_sampling && (!lights.empty() || p_env > 0.f);
+    const Scene& scene = ts.scene();
+    const bool nee = settings.light_sampling && ts.has_lights();
     const bool mis = nee && settings.mis;
-    const bool env_only = p_env == 1.f;  // no emissive triangles: the light selection draw is not needed
+    const bool select_draw = ts.light_selection_draw();  // false when the environment is the only light
 
     vec3 L(0.f), beta(1.f);
     bool specular_bounce = true;  // the camera "bounce" counts like a delta one: emission is always added
@@ -55,31 +51,30 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
     for (int depth = 0;; ++depth) {
         Hit hit;
         ++rays;
-        if (!view.accel->intersect(ray, hit)) {
+        if (!ts.intersect(ray, hit)) {
             // The environment: weighted against its own light sampling, as for emissive triangles.
-            if (!env.is_black()) {
-                const vec3 le = env.eval(ray.d);
+            if (!ts.environment_black()) {
+                const vec3 le = ts.emitted_escape(ray.d);
                 if (!nee || specular_bounce)
                     L += beta * le;
                 else
-                    L += beta * le * bsdf_hit_weight(mis, prev_pdf, p_env * env.pdf(ray.d));
+                    L += beta * le * bsdf_hit_weight(mis, prev_pdf, ts.light_pdf_escape(ray.d));
             }
             break;
         }
         ++vertices;
         const SurfacePoint sf = surface_point(scene, hit);
-        const Material& mat = materials[scene.material_ids[hit.prim]];
+        const Material& mat = ts.material(hit.prim);
         const vec3 wo_world = -ray.d;
         const bool front = glm::dot(wo_world, sf.ng) > 0.f;
 
         // Emission found by the BSDF-sampled ray; with NEE it is weighted so it is never counted twice.
-        if (mat.has_emission() && (front || mat.two_sided_emission)) {
-            if (!nee || specular_bounce) {
+        if (TraceableScene::emits(mat, front)) {
+            if (!nee || specular_bounce)
                 L += beta * mat.emission;
-            } else {
-                const float light_pdf = (1.f - p_env) * lights.pdf(hit.prim, prev_p, sf.p, sf.ng);
-                L += beta * mat.emission * bsdf_hit_weight(mis, prev_pdf, light_pdf);
-            }
+            else
+                L += beta * mat.emission *
+                     bsdf_hit_weight(mis, prev_pdf, ts.light_pdf_hit(hit.prim, prev_p, sf.p, sf.ng));
         }
         if (depth >= settings.max_depth) break;
 
@@ -133,7 +128,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
         // The bounce's draws, taken together so that their independent hash chains overlap; only those the
         // vertex uses (one-lobe BSDFs need no lobe draw, delta ones no light or direction draws), in dimension order.
         const bool do_nee = nee && !is_delta(*bsdf);
-        const float u_light_select = do_nee && !env_only ? sampler.get1d_at(dim) : 0.f;
+        const float u_light_select = do_nee && select_draw ? sampler.get1d_at(dim) : 0.f;
         const vec2 u_light = do_nee ? sampler.get2d_at(dim + 1) : vec2(0.f);
         const bool one_lobe = std::holds_alternative<Lambertian>(*bsdf) || std::holds_alternative<Mirror>(*bsdf);
         const float u_lobe = one_lobe ? 0.5f : sampler.get1d_at(dim + 2);
@@ -141,22 +136,9 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
 
         // Next-event estimation.
         if (do_nee) {
-            // Choose the environment or a triangle; the selection probability folds into the pdf.
+            // The environment or a triangle; the selection probability is in the pdf.
             LightSample ls;
-            bool have = false;
-            if (u_light_select < p_env) {
-                if (auto es = env.sample(u_light)) {
-                    ls.wi = es->wi;
-                    ls.le = es->le;
-                    ls.pdf = p_env * es->pdf;
-                    ls.dist = std::numeric_limits<float>::infinity();
-                    have = true;
-                }
-            } else if (lights.sample(sf.p, (u_light_select - p_env) / (1.f - p_env), u_light, ls)) {
-                ls.pdf *= 1.f - p_env;
-                have = true;
-            }
-            if (have && !is_black(ls.le)) {
+            if (ts.sample_light(sf.p, u_light_select, u_light, ls) && !is_black(ls.le)) {
                 const vec3 wi = frame.to_local(ls.wi);
                 const float cos_gl = glm::dot(ls.wi, ng);
                 const bool same_side = (cos_gl > 0.f) == (wi.z > 0.f);
@@ -164,7 +146,7 @@ vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, 
                 if (!is_black(f)) {
                     const Ray shadow = shadow_ray(origin_toward(ls.wi), ls);
                     ++shadow_rays;
-                    if (!view.accel->occluded(shadow)) {
+                    if (!ts.occluded(shadow)) {
                         // The power heuristic's weight over the light pdf, w / p_l = p_l / (p_l^2 + p_b^2): one
                         // division (power_heuristic's guards: an infinite p_l weighs 1 / p_l = 0).
                         const float pl = ls.pdf;

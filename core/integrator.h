@@ -7,17 +7,15 @@
 #include <cstdint>
 #include <string>
 
-#include "core/accel.h"
-#include "core/environment.h"
-#include "core/lights.h"
 #include "core/sampler.h"
+#include "core/traceable_scene.h"
 
 namespace pv {
 
 // The estimator's switches, as plain data. Defaults are unbiased in practice (depth 1024 is never reached
 // with roulette on: survival falls geometrically with throughput).
 struct RenderSettings {
-    bool light_sampling = true;  // next-event estimation over emissive triangles
+    bool light_sampling = true;  // next-event estimation over emissive triangles, sky and sun
     bool mis = true;             // power-heuristic MIS between light and BSDF sampling (needs light_sampling)
     bool russian_roulette = true;
     int max_depth = 1024;
@@ -42,21 +40,6 @@ struct PathCounters {
     uint64_t vertices = 0;  // surface interactions
 };
 
-// Everything a path needs, read-only and shared by all threads.
-struct SceneView {
-    const Scene* scene = nullptr;
-    const std::vector<Material>* materials = nullptr;
-    const Accel* accel = nullptr;
-    const LightSet* lights = nullptr;
-    const Environment* environment = nullptr;  // required; may be black
-};
-
-// Probability that next-event estimation samples the environment rather than the emissive triangles.
-inline float environment_selection_probability(const SceneView& v) {
-    if (v.environment->is_black()) return 0.f;
-    return v.lights->empty() ? 1.f : 0.5f;
-}
-
 // Sampler dimensions: a sample's camera ray uses dimensions 0 (film position) and 1 (lens), then each bounce a
 // block of kBounceDims (light selection, light point, BSDF lobe, BSDF direction, roulette). A dimension keeps its
 // meaning in every sample of a pixel; a draw that a vertex does not need is skipped, not shifted.
@@ -73,8 +56,9 @@ inline Ray camera_ray(const Camera& camera, Sampler& sampler, int x, int y, uint
     return camera.generate(film, camera.has_lens() ? sampler.get2d_at(dim + 1) : vec2(0.5f));
 }
 
-// Radiance arriving along `ray`. Uses kBounceDims sampler dimensions per bounce.
-vec3 trace_path(const SceneView& view, const RenderSettings& settings, Ray ray, Sampler& sampler,
+// Radiance arriving along `ray` in `scene` (shared read-only by all threads). Uses kBounceDims sampler dimensions
+// per bounce.
+vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler,
                 PathCounters& counters);
 
 }  // namespace pv

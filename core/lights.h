@@ -8,7 +8,6 @@
 #pragma once
 
 #include <algorithm>
-#include <optional>
 #include <vector>
 
 #include "core/camera.h"
@@ -57,11 +56,6 @@ public:
     // Samples a light point as seen from `ref` into `out`; false (out unspecified) when the sample is useless
     // (d = 0, cos = 0). Inline: this is the path tracer's per-vertex call.
     bool sample(vec3 ref, float u_select, vec2 u, LightSample& out) const;
-    std::optional<LightSample> sample(vec3 ref, float u_select, vec2 u) const {
-        LightSample ls;
-        if (!sample(ref, u_select, u, ls)) return std::nullopt;
-        return ls;
-    }
     // Solid-angle pdf that sample() picks point p on triangle `tri` (normal n) from `ref`.
     float pdf(uint32_t tri, vec3 ref, vec3 p, vec3 n) const;
     // Probability of choosing triangle `tri` (0 for non-lights).

@@ -276,7 +276,7 @@ RenderSettings parse_settings(const std::string& text, const std::string& what) 
 PartialRender partial_from_renderer(const Renderer& r, std::vector<SampleRange> ranges) {
     PartialRender p;
     p.id.version = partial_version();
-    p.id.scene_hash = scene_hash(r.scene(), r.materials(), r.environment_settings());
+    p.id.scene_hash = scene_hash(r.scene(), r.traceable().materials(), r.traceable().environment_settings());
     p.id.settings = r.settings().describe();
     p.id.camera = camera_text(r.camera().desc());
     p.id.width = r.film().width();

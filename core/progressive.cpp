@@ -110,15 +110,7 @@ std::optional<PickResult> ProgressiveRenderer::pick(const CameraDesc& camera, in
                                                     vec2 film_px) const {
     // The Camera and the BVH query are local: the driver's Renderer state is not touched.
     const Camera cam(camera, std::max(width, 1), std::max(height, 1));
-    const Ray ray = cam.generate(film_px, vec2(0.5f));
-    Hit hit;
-    if (!m_renderer.accel().intersect(ray, hit)) return std::nullopt;
-    PickResult r;
-    r.triangle = hit.prim;
-    r.material = m_scene->material_ids[hit.prim];
-    r.distance = hit.t;
-    r.position = ray.o + hit.t * ray.d;
-    return r;
+    return m_renderer.traceable().pick(cam, film_px);
 }
 
 bool ProgressiveRenderer::target_reached() const {
@@ -260,10 +252,8 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
         force || stale || std::chrono::duration<double>(now - m_denoise_end).count() >= 2.0 * m_denoise_seconds;
     if (!due || (m_denoised_generation == generation && m_denoised_spp == spp)) return;
     if (m_features_generation != generation || m_features.width != film.width() || m_features.height != film.height()) {
-        const SceneView view{&m_renderer.scene(), &m_renderer.materials(), &m_renderer.accel(), &m_renderer.lights(),
-                             &m_renderer.environment()};
-        m_features =
-            render_features(view, m_renderer.camera(), film.width(), film.height(), 4, m_renderer.settings().seed);
+        m_features = render_features(m_renderer.traceable(), m_renderer.camera(), film.width(), film.height(), 4,
+                                     m_renderer.settings().seed);
         m_features_generation = generation;
     }
     const Image denoised = denoise_atrous(film.mean(), film.variance_of_mean(), m_features);

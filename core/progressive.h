@@ -62,14 +62,6 @@ struct Snapshot {
     Metadata metadata;  // render_metadata() of this accumulation, for EXR snapshots
 };
 
-// Details of the surface under a pixel (for picking materials, re-targeting the orbit and focusing).
-struct PickResult {
-    uint32_t triangle = kNoIndex;
-    uint32_t material = kNoIndex;
-    float distance = 0.f;  // along the unit primary ray
-    vec3 position{0.f};
-};
-
 class ProgressiveRenderer {
 public:
     // Builds the Renderer (BVH; throws pv::Error) and starts the driver thread, idle until the first restart().

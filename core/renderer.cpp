@@ -29,29 +29,17 @@ struct Renderer::Pool {
     explicit Pool(int threads) : arena(threads) {}
 };
 
-Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads, const std::function<void(double)>& build_progress)
-    : m_scene(std::move(scene)), m_materials(m_scene->materials) {
+Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads, const std::function<void(double)>& build_progress) {
     m_threads = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     m_pool = std::make_unique<Pool>(m_threads);
-    m_pool->arena.execute([&] { m_accel = std::make_unique<Accel>(*m_scene, m_materials, build_progress); });
-    m_lights = LightSet(*m_scene, m_materials);
-    m_environment_settings = pv::environment_settings(*m_scene);
-    m_environment = Environment(*m_scene, m_environment_settings);
-    m_camera = Camera(m_scene->camera, 64, 64);
+    m_pool->arena.execute([&] { m_traceable = std::make_unique<TraceableScene>(std::move(scene), build_progress); });
+    m_camera = Camera(m_traceable->scene().camera, 64, 64);
 }
 
 Renderer::~Renderer() = default;
 
 void Renderer::set_materials(const std::vector<Material>& materials) {
-    if (materials.size() != m_scene->materials.size()) return;
-    m_materials = materials;
-    m_lights = LightSet(*m_scene, m_materials);
-    m_pool->arena.execute([&] { m_accel->set_materials(m_materials); });  // alpha cut-outs as edited
-}
-
-void Renderer::set_environment(const EnvironmentSettings& settings) {
-    m_environment_settings = settings;
-    m_environment = Environment(*m_scene, settings);
+    m_pool->arena.execute([&] { m_traceable->set_materials(materials); });  // a BVH rebuild runs on our threads
 }
 
 void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings, int width, int height) {
@@ -77,7 +65,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const int w = m_film.width(), h = m_film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
     const uint32_t index = m_next_sample;
-    const SceneView view{m_scene.get(), &m_materials, m_accel.get(), &m_lights, &m_environment};
+    const TraceableScene& ts = *m_traceable;
     std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
     std::atomic<bool> cancelled{false};
     const uint8_t* active = m_adaptive.enabled() ? m_mask.mask().data() : nullptr;  // nothing: every pixel
@@ -101,7 +89,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                     for (int x = x0; x < x1; ++x) {
                         if (active && !active[size_t(y) * size_t(w) + size_t(x)]) continue;
                         const Ray ray = camera_ray(m_camera, sampler, x, y, index);
-                        const vec3 L = trace_path(view, m_settings, ray, sampler, tt.counters);
+                        const vec3 L = trace_path(ts, m_settings, ray, sampler, tt.counters);
                         if (!m_film.add(x, y, index, L)) tt.dropped++;
                     }
             }
@@ -123,12 +111,6 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     m_stats.last_pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     m_stats.seconds += m_stats.last_pass_seconds;
     return true;
-}
-
-uint32_t Renderer::pick(vec2 film_px) const {
-    Hit hit;
-    const Ray ray = m_camera.generate(film_px, vec2(0.5f));
-    return m_accel->intersect(ray, hit) ? hit.prim : kNoIndex;
 }
 
 Metadata render_metadata(const Renderer& r) {

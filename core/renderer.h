@@ -7,13 +7,12 @@
 #include <atomic>
 #include <memory>
 
-#include "core/accel.h"
 #include "core/adaptive.h"
 #include "core/camera.h"
 #include "core/film.h"
 #include "core/image_io.h"
 #include "core/integrator.h"
-#include "core/lights.h"
+#include "core/traceable_scene.h"
 
 namespace pv {
 
@@ -30,19 +29,18 @@ struct RenderStats {
 
 class Renderer {
 public:
-    // Builds the acceleration structure for `scene` (throws pv::Error on failure). threads = 0: all cores.
-    // build_progress: see Accel.
+    // Prepares `scene` for tracing (TraceableScene: the BVH, built on the render threads, throws pv::Error on
+    // failure; build_progress: see Accel). threads = 0: all cores.
     Renderer(std::shared_ptr<const Scene> scene, int threads = 0,
              const std::function<void(double)>& build_progress = {});
     ~Renderer();
 
-    // Sets camera, estimator, resolution, and optionally new materials (same count as the scene's; the BVH is
-    // kept), and clears the film. Not concurrent with render_pass().
+    // Sets camera, estimator and resolution, and clears the film. Not concurrent with render_pass(); nor are
+    // set_materials (same count as the scene's; the BVH is kept) and set_environment (see TraceableScene), which
+    // take effect from the next pass.
     void restart(const CameraDesc& camera, const RenderSettings& settings, int width, int height);
     void set_materials(const std::vector<Material>& materials);
-    // Replaces the environment's parameters (sky colour, map rotation and strength, sun); the map is the scene's.
-    void set_environment(const EnvironmentSettings& settings);
-    const EnvironmentSettings& environment_settings() const { return m_environment_settings; }
+    void set_environment(const EnvironmentSettings& settings) { m_traceable->set_environment(settings); }
 
     // Passes from now on render sample indices first, first + 1, ... (restart() starts at 0), so that a render
     // can be split into sample ranges and merged (core/partial.h). Not concurrent with render_pass().
@@ -67,23 +65,13 @@ public:
     const RenderStats& stats() const { return m_stats; }
     const RenderSettings& settings() const { return m_settings; }
     const Camera& camera() const { return m_camera; }
-    const Scene& scene() const { return *m_scene; }
-    const std::vector<Material>& materials() const { return m_materials; }
-    const Accel& accel() const { return *m_accel; }
-    const LightSet& lights() const { return m_lights; }
-    const Environment& environment() const { return m_environment; }
+    const Scene& scene() const { return m_traceable->scene(); }
+    // The scene as traced: current materials and environment, BVH, lights.
+    const TraceableScene& traceable() const { return *m_traceable; }
     int threads() const { return m_threads; }
 
-    // Traces one primary ray and returns the hit triangle, or kNoIndex (for picking in the viewer).
-    uint32_t pick(vec2 film_px) const;
-
 private:
-    std::shared_ptr<const Scene> m_scene;
-    std::unique_ptr<Accel> m_accel;
-    std::vector<Material> m_materials;
-    LightSet m_lights;
-    EnvironmentSettings m_environment_settings;
-    Environment m_environment;
+    std::unique_ptr<TraceableScene> m_traceable;
     RenderSettings m_settings;
     Camera m_camera;
     Film m_film;

@@ -1,5 +1,5 @@
 // core/scene.h: the scene as plain data: one triangle mesh (positions, optional shading normals and UVs),
-// a material per triangle, a camera description and a constant background radiance.
+// a material per triangle, a camera description and the environment's settings (sky, map rotation and strength, sun).
 // World units are whatever the OBJ uses. Triangles are validated on load (see obj_loader.h): every index is in
 // range, every position finite, every triangle of non-zero area.
 #pragma once
@@ -35,6 +35,26 @@ struct LoadStats {
     size_t bad_normals = 0;  // corners whose normal was zero/NaN/missing: geometric normal used
 };
 
+// The environment's adjustable parameters (the map itself is Scene::environment_map): a constant sky radiance
+// (when there is no map), the map's rotation and a strength multiplying the sky, and an optional sun: a disk of
+// uniform radiance seen in `sun_direction` (toward the sun) with angular radius sun_angular_radius_deg, whose
+// sun_irradiance is the irradiance it gives a surface facing it (off when black).
+struct EnvironmentSettings {
+    vec3 background{0.f};      // constant sky radiance when there is no map
+    float rotation_deg = 0.f;  // map rotation about +y
+    float strength = 1.f;      // multiplies the sky (map or background)
+    vec3 sun_direction{0.f, 1.f, 0.f};
+    float sun_angular_radius_deg = 0.27f;  // the real sun: 0.266 degrees
+    vec3 sun_irradiance{0.f};
+
+    bool operator==(const EnvironmentSettings& o) const {
+        return background == o.background && rotation_deg == o.rotation_deg && strength == o.strength &&
+               sun_direction == o.sun_direction && sun_angular_radius_deg == o.sun_angular_radius_deg &&
+               sun_irradiance == o.sun_irradiance;
+    }
+    bool operator!=(const EnvironmentSettings& o) const { return !(*this == o); }
+};
+
 struct Scene {
     std::vector<vec3> positions;
     std::vector<uvec3> triangles;       // indices into positions
@@ -48,16 +68,10 @@ struct Scene {
     std::vector<Texture> textures;  // referenced by Material::base_color_texture / alpha_texture
 
     CameraDesc camera;
-    vec3 background{0.f};  // constant radiance of rays that leave the scene (when there is no environment map)
     // Equirectangular environment map (y up; see environment.h): index into textures.
     uint32_t environment_map = kNoIndex;
-    float environment_rotation_deg = 0.f;  // about +y
-    float environment_strength = 1.f;      // multiplies the map or the background
-    // Optional sun: a disk of uniform radiance seen in `sun_direction` (toward the sun) with angular radius
-    // sun_angular_radius_deg; sun_irradiance is the irradiance it gives a surface facing it. Off when black.
-    vec3 sun_direction{0.f, 1.f, 0.f};
-    float sun_angular_radius_deg = 0.27f;  // the real sun: 0.266 degrees
-    vec3 sun_irradiance{0.f};
+    // The sky's and sun's parameters (the sky is the map if any, else the constant background).
+    EnvironmentSettings environment;
     bool has_camera = false;
     // Named camera views saved with the scene file ("bookmarks" in the JSON).
     struct Bookmark {

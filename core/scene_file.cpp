@@ -156,7 +156,7 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     scene.source = path;
     scene.warnings.insert(scene.warnings.end(), warnings.begin(), warnings.end());
     const JsonReader rs{path, &scene.warnings};
-    if (j.contains("background")) scene.background = r.vec(j["background"], root / "background", 0.f, kBig);
+    if (j.contains("background")) scene.environment.background = r.vec(j["background"], root / "background", 0.f, kBig);
     scene.camera = scene.framing_camera();
     if (j.contains("camera")) {
         scene.camera = read_camera(r, cam, root / "camera", scene.camera, false);
@@ -176,18 +176,21 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
         const std::string map = r.string(env["map"], root / "environment" / "map");
         set_environment_map(scene, map == "sky" ? map : (dir / map).string());  // "sky": the default sky
     }
-    if (env.contains("color")) scene.background = r.vec(env["color"], root / "environment" / "color", 0.f, kBig);
+    if (env.contains("color"))
+        scene.environment.background = r.vec(env["color"], root / "environment" / "color", 0.f, kBig);
     if (env.contains("rotation"))
-        scene.environment_rotation_deg = r.number(env["rotation"], root / "environment" / "rotation", -kBig, kBig);
+        scene.environment.rotation_deg = r.number(env["rotation"], root / "environment" / "rotation", -kBig, kBig);
     if (env.contains("strength"))
-        scene.environment_strength = r.number(env["strength"], root / "environment" / "strength", 0.f, kBig);
-    if (sun.contains("direction")) scene.sun_direction = r.direction(sun["direction"], root / "sun" / "direction");
+        scene.environment.strength = r.number(env["strength"], root / "environment" / "strength", 0.f, kBig);
+    if (sun.contains("direction"))
+        scene.environment.sun_direction = r.direction(sun["direction"], root / "sun" / "direction");
     if (sun.contains("angular_radius"))
-        scene.sun_angular_radius_deg = r.number(sun["angular_radius"], root / "sun" / "angular_radius", 0.01f, 45.f);
+        scene.environment.sun_angular_radius_deg =
+            r.number(sun["angular_radius"], root / "sun" / "angular_radius", 0.01f, 45.f);
     if (sun.contains("irradiance")) {
         const json& e = sun["irradiance"];
         const Ptr at = root / "sun" / "irradiance";
-        scene.sun_irradiance = e.is_number() ? vec3(r.number(e, at, 0.f, kBig)) : r.vec(e, at, 0.f, kBig);
+        scene.environment.sun_irradiance = e.is_number() ? vec3(r.number(e, at, 0.f, kBig)) : r.vec(e, at, 0.f, kBig);
     }
     for (const auto& [name, o] : materials.items()) {
         bool found = false;

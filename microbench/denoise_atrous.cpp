@@ -21,8 +21,8 @@ const Frame& cornell_frame() {
         pv::Renderer r(scene, 0);
         r.restart(scene->camera, pv::RenderSettings{}, 512, 512);
         for (int i = 0; i < 4; ++i) r.render_pass();
-        const pv::SceneView view{&r.scene(), &r.materials(), &r.accel(), &r.lights(), &r.environment()};
-        return Frame{r.film().mean(), r.film().variance_of_mean(), pv::render_features(view, r.camera(), 512, 512, 4)};
+        return Frame{r.film().mean(), r.film().variance_of_mean(),
+                     pv::render_features(r.traceable(), r.camera(), 512, 512, 4)};
     }();
     return frame;
 }

@@ -28,7 +28,7 @@ struct HalfScene {
         const uint32_t id = test::add_material(*scene, m);
         test::add_quad(*scene, vec3(-2.f, -2.f, 0.f), vec3(0.f, -2.f, 0.f), vec3(0.f, 2.f, 0.f), vec3(-2.f, 2.f, 0.f),
                        id);
-        scene->background = vec3(1.f);
+        scene->environment.background = vec3(1.f);
         camera.eye = vec3(0.f, 0.f, 2.f);
         camera.target = vec3(0.f);
         camera.vfov_deg = 60.f;  // the quad fills the left half of the image (x < 0)

@@ -23,7 +23,7 @@ std::shared_ptr<Scene> furnace_scene(const Bsdf& bsdf, vec3 background) {
     Material m;
     m.bsdf = bsdf;
     add_icosphere(*scene, vec3(0.f), 1.f, 2, add_material(*scene, m));
-    scene->background = background;
+    scene->environment.background = background;
     return scene;
 }
 

@@ -26,14 +26,14 @@ TEST(Aov, CornellBackWall) {
     sampler.start(uvec2(0), 0);
     // From the camera at the back wall (the plane z = 559.2 in Cornell's measurements) above the tall block.
     const vec3 eye(278.f, 273.f, -800.f), target(278.f, 450.f, 559.2f);
-    const FeatureSample f = trace_features(tracer.view(), make_ray(eye, glm::normalize(target - eye)), sampler);
+    const FeatureSample f = trace_features(tracer, make_ray(eye, glm::normalize(target - eye)), sampler);
     EXPECT_NEAR(f.depth, glm::length(target - eye), 0.05f);
     EXPECT_NEAR(f.normal.z, -1.f, 1e-4f);
     EXPECT_NEAR(f.albedo.x, 0.725f, 1e-6f);
     EXPECT_NEAR(f.albedo.y, 0.71f, 1e-6f);
     EXPECT_NEAR(f.albedo.z, 0.68f, 1e-6f);
     // A ray into the void has no features.
-    const FeatureSample miss = trace_features(tracer.view(), make_ray(eye, vec3(0.f, 0.f, -1.f)), sampler);
+    const FeatureSample miss = trace_features(tracer, make_ray(eye, vec3(0.f, 0.f, -1.f)), sampler);
     EXPECT_EQ(miss.depth, 0.f);
     EXPECT_EQ(miss.albedo, vec3(0.f));
 }
@@ -60,7 +60,7 @@ TEST(Aov, MirrorFollowsTheChain) {
     const test::Tracer tracer(specular_scene(Mirror{vec3(0.5f)}));
     Sampler sampler(0, SamplerKind::Independent);
     sampler.start(uvec2(0), 0);
-    const FeatureSample f = trace_features(tracer.view(), make_ray(vec3(0.f, 0.f, 5.f), vec3(0.f, 0.f, -1.f)), sampler);
+    const FeatureSample f = trace_features(tracer, make_ray(vec3(0.f, 0.f, 5.f), vec3(0.f, 0.f, -1.f)), sampler);
     EXPECT_NEAR(f.depth, 15.f, 1e-3f);     // 5 to the mirror, 10 back to the red wall
     EXPECT_NEAR(f.albedo.x, 0.5f, 1e-6f);  // red, tinted by the mirror's reflectance
     EXPECT_EQ(f.albedo.y, 0.f);
@@ -76,8 +76,7 @@ TEST(Aov, GlassSplitsByFresnel) {
     double red = 0, green = 0;
     for (int i = 0; i < n; ++i) {
         sampler.start(uvec2(1, 2), uint32_t(i));
-        const FeatureSample f =
-            trace_features(tracer.view(), make_ray(vec3(0.f, 0.f, 5.f), vec3(0.f, 0.f, -1.f)), sampler);
+        const FeatureSample f = trace_features(tracer, make_ray(vec3(0.f, 0.f, 5.f), vec3(0.f, 0.f, -1.f)), sampler);
         red += f.albedo.x;
         green += f.albedo.y;
         if (f.albedo.y > 0.f) {
@@ -93,7 +92,7 @@ TEST(Aov, RenderFeaturesMatchesSingleRays) {
     // The per-pixel means: every sample of a pixel that sees only the back wall has the same albedo and normal.
     const test::Tracer tracer(test::cornell_box());
     const int w = 16, h = 16;
-    const FeatureImage img = render_features(tracer.view(), Camera(test::cornell_box()->camera, w, h), w, h, 4, 0);
+    const FeatureImage img = render_features(tracer, Camera(test::cornell_box()->camera, w, h), w, h, 4, 0);
     ASSERT_EQ(img.albedo.size(), size_t(w * h));
     const size_t i = size_t(5) * w + 8;  // upper middle: back wall
     EXPECT_NEAR(img.albedo[i].x, 0.725f, 1e-5f);

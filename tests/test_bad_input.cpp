@@ -170,8 +170,8 @@ TEST(BadInput, InfiniteEmissionDoesNotPoisonLightSampling) {
     auto s = std::make_shared<Scene>(load_scene(data("ke_inf.obj")));
     ASSERT_EQ(s->triangles.size(), 5u);
     Renderer r(s, 1);
-    EXPECT_EQ(r.lights().size(), 2u);
-    EXPECT_NEAR(r.lights().pmf(0) + r.lights().pmf(1), 1.f, 1e-6f);
+    EXPECT_EQ(r.traceable().triangle_lights().size(), 2u);
+    EXPECT_NEAR(r.traceable().triangle_lights().pmf(0) + r.traceable().triangle_lights().pmf(1), 1.f, 1e-6f);
     CameraDesc cam;
     cam.eye = vec3(0.f, 3.f, 6.f);
     cam.target = vec3(0.f);

@@ -219,7 +219,7 @@ std::shared_ptr<Scene> scene_with_texels(const std::vector<float>& v, int w, int
     for (size_t i = 0; i < v.size(); ++i) texels[i] = vec4(v[i], v[i], v[i] * float(i % 3), 1.f);
     scene->textures.emplace_back(w, h, std::move(texels));
     scene->environment_map = 0;
-    scene->environment_rotation_deg = rotation_deg;
+    scene->environment.rotation_deg = rotation_deg;
     return scene;
 }
 
@@ -264,7 +264,7 @@ TEST(EnvironmentTexels, SearchAgreesWithTheExactTexelAwayFromEdges) {
         int near_edges = 0;
         for (int s = 0; s < 200000; ++s) {
             const vec3 d = random_direction(rng) * (s % 2 ? 1.f : 3.7f);  // any length
-            const glm::dvec2 a = exact_uv(d, c.scene->environment_rotation_deg) * glm::dvec2(map.width(), map.height());
+            const glm::dvec2 a = exact_uv(d, c.scene->environment.rotation_deg) * glm::dvec2(map.width(), map.height());
             const ivec2 t = env.direction_to_texel(d);
             const glm::dvec2 dist_to_edge = glm::min(a - glm::floor(a), glm::ceil(a) - a);
             const ivec2 exact = glm::min(ivec2(glm::floor(a)), ivec2(map.width() - 1, map.height() - 1));
@@ -350,7 +350,7 @@ TEST(EnvironmentSampling, UvChiSquareForOddMaps) {
             ASSERT_GT(luminance(es->le), 0.f) << c.name << ": a black texel was sampled";
             // The pdf's sin(theta) comes from the sampled angle there and from the direction here: rounding apart.
             mismatched += std::fabs(es->pdf - env.pdf(es->wi)) > 1e-5f * es->pdf || es->le != env.eval(es->wi);
-            const glm::dvec2 a = exact_uv(es->wi, c.scene->environment_rotation_deg) * glm::dvec2(bw, bh);
+            const glm::dvec2 a = exact_uv(es->wi, c.scene->environment.rotation_deg) * glm::dvec2(bw, bh);
             observed[size_t(std::min(int(a.y), bh - 1)) * bw + size_t(std::min(int(a.x), bw - 1))] += 1.0;
         }
         EXPECT_LE(failed, samples / 100000) << c.name;

@@ -22,7 +22,7 @@ TEST(GlassFurnace, CoarseSmoothGlassSphereIsInvisibleInAWhiteFurnace) {
         Material glass;
         glass.bsdf = Dielectric{eta};
         test::add_uv_sphere(*scene, vec3(0.f), 1.f, 8, 6, test::add_material(*scene, glass), /*smooth=*/true);
-        scene->background = vec3(1.f);
+        scene->environment.background = vec3(1.f);
         const test::Tracer tracer(scene);
         CameraDesc cam;
         cam.eye = vec3(0.4f, 0.5f, 3.2f);

@@ -167,11 +167,11 @@ TEST(ExtremeInputs, LightSetAtDegenerateReferencePoints) {
         for (float a : us)
             for (float b : us)
                 for (float c : us) {
-                    const auto s = lights.sample(ref, a, vec2(b, c));
-                    if (!s) continue;
-                    EXPECT_TRUE(std::isfinite(s->pdf) && s->pdf > 0.f);
-                    EXPECT_TRUE(is_finite(s->wi) && is_finite(s->le) && is_finite(s->p));
-                    EXPECT_TRUE(s->dist > 0.f && std::isfinite(s->dist));
+                    LightSample s;
+                    if (!lights.sample(ref, a, vec2(b, c), s)) continue;
+                    EXPECT_TRUE(std::isfinite(s.pdf) && s.pdf > 0.f);
+                    EXPECT_TRUE(is_finite(s.wi) && is_finite(s.le) && is_finite(s.p));
+                    EXPECT_TRUE(s.dist > 0.f && std::isfinite(s.dist));
                 }
 }
 
@@ -245,7 +245,7 @@ TEST(ShadingNormals, LowPolySmoothSphereInFurnace) {
     m.bsdf = Lambertian{vec3(1.f)};
     test::add_uv_sphere(*scene, vec3(0.f), 1.f, 8, 6, test::add_material(*scene, m), /*smooth=*/true);
     ASSERT_FALSE(scene->normal_indices.empty());
-    scene->background = vec3(1.f);
+    scene->environment.background = vec3(1.f);
     const test::Tracer tracer(scene);
     CameraDesc cam;
     cam.eye = vec3(0.2f, 0.5f, 3.f);
@@ -291,7 +291,7 @@ TEST(ShadingNormals, SameSideRuleFallsBackToGeometricNormal) {
         const uint32_t mf = test::add_material(*s, floor), ml = test::add_material(*s, light);
         test::add_quad(*s, vec3(-1, 0, -1), vec3(-1, 0, 1), vec3(1, 0, 1), vec3(1, 0, -1), mf);  // normal +y
         test::add_quad(*s, vec3(-1, 2, -1), vec3(1, 2, -1), vec3(1, 2, 1), vec3(-1, 2, 1), ml);  // facing down
-        s->background = vec3(0.3f);
+        s->environment.background = vec3(0.3f);
         if (tilted) {
             // Shading normals leaning hard towards +x on the floor.
             s->normals = {glm::normalize(vec3(1.f, 0.15f, 0.f))};
@@ -358,7 +358,7 @@ f 1 2 10
     for (const std::string& w : s.warnings) warned |= w.find("zero-area") != std::string::npos;
     EXPECT_TRUE(warned);
     auto scene = std::make_shared<Scene>(s);
-    scene->background = vec3(1.f);
+    scene->environment.background = vec3(1.f);
     CameraDesc cam;
     cam.eye = vec3(0.5f, 0.3f, 3.f);
     cam.target = vec3(0.3f, 0.3f, 0.f);
@@ -384,10 +384,10 @@ TEST(DegenerateGeometry, ZeroAreaEmitterIsNeverSampled) {
     EXPECT_EQ(lights.pmf(2), 1.f);
     Pcg32 g(1, 2);
     for (int i = 0; i < 100000; ++i) {
-        const auto s = lights.sample(vec3(0.2f, 0.f, 0.2f), g.next_float(), vec2(g.next_float(), g.next_float()));
-        ASSERT_TRUE(s.has_value());
-        ASSERT_NEAR(s->p.y, 2.f, 1e-6f);
-        ASSERT_TRUE(std::isfinite(s->pdf));
+        LightSample s;
+        ASSERT_TRUE(lights.sample(vec3(0.2f, 0.f, 0.2f), g.next_float(), vec2(g.next_float(), g.next_float()), s));
+        ASSERT_NEAR(s.p.y, 2.f, 1e-6f);
+        ASSERT_TRUE(std::isfinite(s.pdf));
     }
 }
 
@@ -437,7 +437,7 @@ TEST(NanInjection, DroppedCountEqualsCameraSamplesOnTheBadEmitter) {
     scene->add_triangle(vec3(-0.3f, -0.2f, 0), vec3(0.1f, -0.2f, 0), vec3(-0.1f, 0.25f, 0), mn);  // faces +z
     scene->add_triangle(vec3(0.4f, 0.3f, 0), vec3(0.6f, 0.3f, 0), vec3(0.5f, 0.5f, 0), mi);
     test::add_quad(*scene, vec3(-1, 2, -0.5f), vec3(-1, 2, 0.5f), vec3(1, 2, 0.5f), vec3(1, 2, -0.5f), ml);
-    scene->background = vec3(0.2f);
+    scene->environment.background = vec3(0.2f);
     CameraDesc cam;
     cam.eye = vec3(0.f, 0.f, 3.f);
     cam.target = vec3(0.f);
@@ -464,8 +464,8 @@ TEST(NanInjection, DroppedCountEqualsCameraSamplesOnTheBadEmitter) {
     EXPECT_GT(expected, 10u);
     EXPECT_EQ(r.stats().dropped, expected);
     test::expect_finite_and_lit(r.film().mean());
-    EXPECT_EQ(r.lights().pmf(2), 0.f);
-    EXPECT_EQ(r.lights().pmf(3), 0.f);
+    EXPECT_EQ(r.traceable().triangle_lights().pmf(2), 0.f);
+    EXPECT_EQ(r.traceable().triangle_lights().pmf(3), 0.f);
 }
 
 // ---------------------------------------------------------------- long accumulation

@@ -93,9 +93,9 @@ void add_unit_uvs(Scene& s, size_t first_tri) {
 }
 
 void add_sun(Scene& s, vec3 dir, float radius_deg, double& expected, double& hit) {
-    s.sun_direction = dir;
-    s.sun_angular_radius_deg = radius_deg;
-    s.sun_irradiance = vec3(1.f);
+    s.environment.sun_direction = dir;
+    s.environment.sun_angular_radius_deg = radius_deg;
+    s.environment.sun_irradiance = vec3(1.f);
     const double cos_s = double(glm::normalize(dir).y);
     const double sin_r = std::sin(glm::radians(double(radius_deg)));
     expected = kRho * cos_s / M_PI;  // a cap wholly above the horizon: E = E_sun cos(theta_sun)
@@ -135,7 +135,7 @@ std::vector<LightCase> light_cases() {
                      hit = hit_fraction(q);
                  }});
     c.push_back({"constant_environment", [](Scene& s, double& e, double& hit) {
-                     s.background = vec3(0.7f);
+                     s.environment.background = vec3(0.7f);
                      e = kRho * 0.7;  // E = pi Le over the upper hemisphere
                      hit = 1.0;
                  }});
@@ -332,11 +332,11 @@ TEST(SunDisk, LightSamplesLieInTheDiskAndFillItUniformly) {
     const int n = 64000, bins = 64;
     for (const float radius : radii) {
         Scene scene;
-        scene.sun_direction = vec3(0.3f, 1.f, 0.2f);
-        scene.sun_angular_radius_deg = radius;
-        scene.sun_irradiance = vec3(1.f);
+        scene.environment.sun_direction = vec3(0.3f, 1.f, 0.2f);
+        scene.environment.sun_angular_radius_deg = radius;
+        scene.environment.sun_irradiance = vec3(1.f);
         const Environment env(scene);
-        const dvec3 sun = glm::normalize(dvec3(scene.sun_direction));
+        const dvec3 sun = glm::normalize(dvec3(scene.environment.sun_direction));
         const double sin_half = std::sin(0.5 * glm::radians(double(radius)));
         const double one_minus_cos_r = 2.0 * sin_half * sin_half;
         std::vector<double> count(bins, 0.0);
@@ -423,10 +423,10 @@ TEST(LightSelection, TinyQuadAfterDominantQuadNeeEqualsBsdfOnly) {
         << "NEE " << r[1].mean << " +- " << r[1].se << ", BSDF-only " << r[0].mean << " +- " << r[0].se;
     // Every emitter's pmf is the probability it is sampled with: the small quad's is 0 (its share 5e-9 is below
     // the table's 2^-23 quantum), so light sampling never picks it and BSDF sampling takes it whole.
-    EXPECT_EQ(tracer.lights().pmf(2), 0.5f);  // triangles 0, 1: the receiver; 2, 3: the large quad
-    EXPECT_EQ(tracer.lights().pmf(3), 0.5f);
-    EXPECT_EQ(tracer.lights().pmf(4), 0.f);
-    EXPECT_EQ(tracer.lights().pmf(5), 0.f);
+    EXPECT_EQ(tracer.triangle_lights().pmf(2), 0.5f);  // triangles 0, 1: the receiver; 2, 3: the large quad
+    EXPECT_EQ(tracer.triangle_lights().pmf(3), 0.5f);
+    EXPECT_EQ(tracer.triangle_lights().pmf(4), 0.f);
+    EXPECT_EQ(tracer.triangle_lights().pmf(5), 0.f);
 }
 
 // DiscreteDistribution: sample() picks item i for exactly count(i) of the 2^23 values of floor(u 2^23), over every

@@ -102,13 +102,15 @@ TEST(AlphaEdits, RemovingACutOutMakesTheSurfaceBlockRays) {
     Renderer renderer(occluder_scene(0), 1);
     const ScopedFtzDaz ftz;
     Hit hit;
-    ASSERT_FALSE(renderer.accel().occluded(up_from_origin())) << "a fully transparent cut-out lets rays through";
-    ASSERT_FALSE(renderer.accel().intersect(up_from_origin(), hit));
-    std::vector<Material> edited = renderer.materials();
+    ASSERT_FALSE(renderer.traceable().accel().occluded(up_from_origin()))
+        << "a fully transparent cut-out lets rays through";
+    ASSERT_FALSE(renderer.traceable().accel().intersect(up_from_origin(), hit));
+    std::vector<Material> edited = renderer.traceable().materials();
     edited[0].alpha_texture = kNoIndex;
     renderer.set_materials(edited);
-    EXPECT_TRUE(renderer.accel().occluded(up_from_origin())) << "shadow rays must see the edited, opaque occluder";
-    EXPECT_TRUE(renderer.accel().intersect(up_from_origin(), hit));
+    EXPECT_TRUE(renderer.traceable().accel().occluded(up_from_origin()))
+        << "shadow rays must see the edited, opaque occluder";
+    EXPECT_TRUE(renderer.traceable().accel().intersect(up_from_origin(), hit));
     EXPECT_NEAR(hit.t, 1.f, 1e-6f);
 }
 
@@ -116,16 +118,16 @@ TEST(AlphaEdits, AddingACutOutLetsRaysThrough) {
     Renderer renderer(occluder_scene(kNoIndex), 1);
     const ScopedFtzDaz ftz;
     Hit hit;
-    ASSERT_TRUE(renderer.accel().occluded(up_from_origin()));
-    std::vector<Material> edited = renderer.materials();
+    ASSERT_TRUE(renderer.traceable().accel().occluded(up_from_origin()));
+    std::vector<Material> edited = renderer.traceable().materials();
     edited[0].alpha_texture = 0;
     renderer.set_materials(edited);
-    EXPECT_FALSE(renderer.accel().occluded(up_from_origin())) << "shadow rays must pass the edited cut-out";
-    EXPECT_FALSE(renderer.accel().intersect(up_from_origin(), hit));
+    EXPECT_FALSE(renderer.traceable().accel().occluded(up_from_origin())) << "shadow rays must pass the edited cut-out";
+    EXPECT_FALSE(renderer.traceable().accel().intersect(up_from_origin(), hit));
     // And back: opaque again.
     edited[0].alpha_texture = kNoIndex;
     renderer.set_materials(edited);
-    EXPECT_TRUE(renderer.accel().occluded(up_from_origin()));
+    EXPECT_TRUE(renderer.traceable().accel().occluded(up_from_origin()));
 }
 
 // Triangles of materials with and without a cut-out go to separate Embree geometries; hits still name the Scene's

@@ -36,8 +36,7 @@ TEST(RayBench, MinimalKernelTracesWholePassesOfItsWalk) {
     o.threads = 2;
     o.seconds_per_kind = 0.01;
     o.walk_depth = 3;
-    const MinimalKernelRate mk =
-        measure_minimal_kernel(r.scene(), r.accel(), r.lights(), r.environment(), r.camera(), o);
+    const MinimalKernelRate mk = measure_minimal_kernel(r.traceable(), r.camera(), o);
     ASSERT_GT(mk.mix.camera, 0.0);
     const double passes = mk.mix.camera / (16.0 * 16.0);
     EXPECT_EQ(passes, std::floor(passes));  // one camera ray per pixel per pass

@@ -64,7 +64,7 @@ vec3 radiance_at(const test::Tracer& tracer, float x, float y, uint32_t index) {
     Ray r;
     r.o = vec3(x, y, 1.f);
     r.d = vec3(0.f, 0.f, -1.f);
-    return trace_path(tracer.view(), s, r, sampler, c);
+    return trace_path(tracer, s, r, sampler, c);
 }
 
 // Moments (per channel) of `spp` samples of the radiance along one fixed ray, direct light only (max depth 1,
@@ -82,7 +82,7 @@ std::array<Moments, 3> radiance_moments(const test::Tracer& tracer, bool nee, bo
     Sampler sampler(seed, SamplerKind::Independent);
     for (int i = 0; i < spp; ++i) {
         sampler.start(uvec2(3, 4), uint32_t(i));
-        const vec3 L = trace_path(tracer.view(), s, ray, sampler, c);
+        const vec3 L = trace_path(tracer, s, ray, sampler, c);
         for (int ch = 0; ch < 3; ++ch) m[ch].add(L[ch]);
     }
     return m;
@@ -107,7 +107,7 @@ TEST(Textures, QuadShowsTheTexelUnderEachPoint) {
     dir.file("quad.mtl", "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd checker.PNG\n");  // wrong case on purpose
     auto scene = std::make_shared<Scene>(load_obj(dir.file("quad.obj", kQuadObj)));
     ASSERT_EQ(scene->textures.size(), 1u) << "the case-insensitive match should find Checker.png";
-    scene->background = vec3(1.f);
+    scene->environment.background = vec3(1.f);
     const test::Tracer tracer(scene);
     // Texel centres: u = 0.25 / 0.75; v = 0.75 is the TOP row (OBJ v = 0 is the image's bottom).
     const struct {
@@ -136,7 +136,7 @@ TEST(Textures, MissingTextureWarnsOnceAndKeepsTheFlatColour) {
     for (const auto& w : scene->warnings) warnings += w.find("nowhere.png") != std::string::npos;
     EXPECT_EQ(warnings, 1u);
     EXPECT_EQ(scene->materials[0].base_color_texture, kNoIndex);
-    scene->background = vec3(1.f);
+    scene->environment.background = vec3(1.f);
     const test::Tracer tracer(scene);
     const vec3 L = radiance_at(tracer, 0.3f, 0.6f, 0);
     EXPECT_NEAR(L.x, 0.25f, 1e-5f);
@@ -168,7 +168,7 @@ TEST(Textures, AlphaCutOutPassesLightInProportion) {
         "usemtl occluder\nf 1/1 2/2 3/3 4/4\nusemtl receiver\nf 5 6 7 8\n";
     auto scene = std::make_shared<Scene>(load_obj(dir.file("scene.obj", obj)));
     ASSERT_NE(scene->materials[0].alpha_texture, kNoIndex);
-    scene->background = vec3(1.f);
+    scene->environment.background = vec3(1.f);
     const test::Tracer tracer(scene);
     // Cosine-weighted fraction of the hemisphere inside the occluder, seen from the receiver's centre: the
     // occluder is a square, so integrate numerically (midpoint rule on a fine grid of its area).
@@ -203,7 +203,7 @@ std::shared_ptr<Scene> scene_with_map(int w, int h, float rotation_deg) {
     texels[3] = vec4(0.f, 0.f, 0.f, 1.f);  // a black texel is never sampled
     scene->textures.emplace_back(w, h, std::move(texels));
     scene->environment_map = 0;
-    scene->environment_rotation_deg = rotation_deg;
+    scene->environment.rotation_deg = rotation_deg;
     return scene;
 }
 
@@ -349,10 +349,10 @@ TEST(Environment, SunOnDiffusePlaneMatchesClosedForm) {
         const uint32_t white = test::add_material(*scene, Material{"white", Lambertian{vec3(1.f)}});
         test::add_quad(*scene, vec3(-1e3f, 0, 1e3f), vec3(1e3f, 0, 1e3f), vec3(1e3f, 0, -1e3f), vec3(-1e3f, 0, -1e3f),
                        white);
-        scene->sun_direction = vec3(std::sin(theta), std::cos(theta), 0.f);
-        scene->sun_angular_radius_deg = 5.f;  // wide enough that BSDF sampling alone finds it
-        scene->sun_irradiance = vec3(2.f, 1.f, 0.5f);
-        scene->background = vec3(sky);
+        scene->environment.sun_direction = vec3(std::sin(theta), std::cos(theta), 0.f);
+        scene->environment.sun_angular_radius_deg = 5.f;  // wide enough that BSDF sampling alone finds it
+        scene->environment.sun_irradiance = vec3(2.f, 1.f, 0.5f);
+        scene->environment.background = vec3(sky);
         const test::Tracer tracer(scene);
         const struct {
             bool nee, mis;
@@ -376,7 +376,7 @@ TEST(Environment, EmitsAgreesWithTheFullEnvironment) {
         for (const float strength : {0.f, 1.f})
             for (const vec3 sky : {vec3(0.f), vec3(0.2f)})
                 for (const vec3 sun : {vec3(0.f), vec3(3.f)}) {
-                    EnvironmentSettings s = environment_settings(*scene);
+                    EnvironmentSettings s = scene->environment;
                     s.strength = strength;
                     s.background = sky;
                     s.sun_irradiance = sun;
@@ -400,7 +400,7 @@ TEST(Environment, UnlitSceneGetsTheDefaultSkyAndSaysSo) {
     dir.file("s.json", R"({"obj": "plane.obj", "background": [0.1, 0.2, 0.3]})");
     const Scene lit = load_scene((dir.path / "s.json").string());
     EXPECT_EQ(lit.environment_map, kNoIndex);
-    EXPECT_FLOAT_EQ(lit.background.y, 0.2f);
+    EXPECT_FLOAT_EQ(lit.environment.background.y, 0.2f);
 }
 
 TEST(MtlQuirks, DocumentedBehaviour) {
@@ -521,7 +521,7 @@ TEST(Bookmarks, SavedWithTheSceneFileAndReloaded) {
     save_bookmark(json_path, "side", b);  // replaces, does not duplicate
     const Scene s = load_scene(json_path);
     ASSERT_EQ(s.bookmarks.size(), 2u);
-    EXPECT_FLOAT_EQ(s.background.x, 0.5f);  // the file's other keys survive
+    EXPECT_FLOAT_EQ(s.environment.background.x, 0.5f);  // the file's other keys survive
     const CameraDesc& front = find_bookmark(s, "front");
     EXPECT_EQ(front.eye, a.eye);
     EXPECT_FLOAT_EQ(front.vfov_deg, 33.f);

@@ -227,9 +227,8 @@ int expect_corner_direct_light(const ShadowCase& sc, bool nee, int samples, doub
     Material m;
     m.bsdf = Lambertian{vec3(float(rho))};
     add_corner(*scene, c, test::add_material(*scene, m));
-    scene->background = vec3(float(l_env));
+    scene->environment.background = vec3(float(l_env));
     const test::Tracer tracer(scene);
-    const SceneView view = tracer.view();
     dvec3 quad[2][4];
     for (int f = 0; f < 2; ++f) {
         const uvec3 t0 = scene->triangles[size_t(2 * f)], t1 = scene->triangles[size_t(2 * f + 1)];
@@ -267,7 +266,7 @@ int expect_corner_direct_light(const ShadowCase& sc, bool nee, int samples, doub
             rho * l_env * (1.0 - polygon_form_factor(dvec3(sp.p), dvec3(c.n[face]), quad[1 - face], 4));
         sampler.start(uvec2(uint32_t(i % 4096), uint32_t(i / 4096)), 0);
         sampler.reserve(kCameraDims);
-        const vec3 v = trace_path(view, s, r, sampler, counters);
+        const vec3 v = trace_path(tracer, s, r, sampler, counters);
         diff[face][decade].add(double(v.x) - expected);
         value[face][decade].add(expected);
     }
@@ -573,7 +572,7 @@ TEST(BlackRim, LowPolySmoothSphereInFurnaceHasNoBlackOrBrightPixels) {
     Material m;
     m.bsdf = Lambertian{vec3(1.f)};
     test::add_uv_sphere(*scene, vec3(0.f), 1.f, 8, 6, test::add_material(*scene, m), /*smooth=*/true);
-    scene->background = vec3(1.f);
+    scene->environment.background = vec3(1.f);
     const test::Tracer tracer(scene);
     CameraDesc cam;
     // Zoomed on the silhouette, where the facets and the shading normals disagree most.

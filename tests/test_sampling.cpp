@@ -163,9 +163,9 @@ TEST(Chi2Light, TriangleLightsBySolidAngle) {
             [&](Pcg32& g) -> std::optional<vec3> {
                 const float us = g.next_float();
                 const vec2 u(g.next_float(), g.next_float());
-                const auto s = ls.lights->sample(ref, us, u);
-                if (!s) return std::nullopt;
-                return s->wi;
+                LightSample s;
+                if (!ls.lights->sample(ref, us, u, s)) return std::nullopt;
+                return s.wi;
             },
             [&](vec3 w) { return ls.direction_pdf(ref, w); }, o);
         EXPECT_TRUE(r.passed) << "ref (" << ref.x << ", " << ref.y << ", " << ref.z << "): " << r.message;
@@ -179,12 +179,12 @@ TEST(LightSampling, SamplePdfMatchesPdfAndPowerIsProportional) {
     Pcg32 g(3, 4);
     const vec3 ref(0.2f, 0.1f, -0.3f);
     for (int i = 0; i < 10000; ++i) {
-        const auto s = ls.lights->sample(ref, g.next_float(), vec2(g.next_float(), g.next_float()));
-        ASSERT_TRUE(s.has_value());
+        LightSample s;
+        ASSERT_TRUE(ls.lights->sample(ref, g.next_float(), vec2(g.next_float(), g.next_float()), s));
         // Identify the triangle by the direction pdf (at most one triangle per direction here).
-        const double p = ls.direction_pdf(ref, s->wi);
-        EXPECT_NEAR(s->pdf, p, 1e-3 * p);
-        EXPECT_NEAR(glm::length(s->p - ref), s->dist, 1e-4f * s->dist);
+        const double p = ls.direction_pdf(ref, s.wi);
+        EXPECT_NEAR(s.pdf, p, 1e-3 * p);
+        EXPECT_NEAR(glm::length(s.p - ref), s.dist, 1e-4f * s.dist);
     }
     // pmf = luminance(Le) * area (* 2 if two-sided) / total.
     const double quad = 4.0 * double(luminance(vec3(4, 2, 1)));

@@ -147,7 +147,8 @@ TEST(ShardResume, ContinuedPartEqualsOneRenderBitForBit) {
     // What `pathview render --resume` does: the part's sums, then indices from the part's end.
     r.restart(parse_camera(part.id.camera, "part"), parse_settings(part.id.settings, "part"), part.id.width,
               part.id.height);
-    EXPECT_EQ(scene_hash(r.scene(), r.materials(), r.environment_settings()), part.id.scene_hash);
+    EXPECT_EQ(scene_hash(r.scene(), r.traceable().materials(), r.traceable().environment_settings()),
+              part.id.scene_hash);
     r.load_film(part.film);
     r.set_next_sample(uint32_t(part.ranges.back().end()));
     for (int i = 0; i < 24; ++i) r.render_pass();
@@ -176,7 +177,7 @@ TEST(ShardFormat, RoundTripIsExact) {
 
 TEST(ShardFormat, SceneHashSeesMaterialsEnvironmentAndGeometry) {
     const Scene& scene = *test::cornell_box();
-    const EnvironmentSettings env = environment_settings(scene);
+    const EnvironmentSettings env = scene.environment;
     const uint64_t h = scene_hash(scene, scene.materials, env);
     EXPECT_EQ(h, scene_hash(scene, scene.materials, env));
     std::vector<Material> edited = scene.materials;

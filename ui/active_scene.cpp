@@ -20,8 +20,8 @@ void ActiveScene::adopt(std::shared_ptr<const Scene> scene, ViewState& state) {
     m_scene = std::move(scene);
     state.materials = m_scene->materials;
     state.selected_material = -1;
-    m_environment_lit = environment_emits(*m_scene, environment_settings(*m_scene));
-    state.environment = environment_settings(*m_scene);
+    m_environment_lit = environment_emits(*m_scene, m_scene->environment);
+    state.environment = m_scene->environment;
     state.has_environment_map = m_scene->environment_map != kNoIndex;
     state.bookmarks = m_scene->bookmarks;
     state.bookmark_status.clear();

@@ -21,7 +21,8 @@ void rays_section(const BenchOptions& o, std::shared_ptr<const Scene> scene, con
     std::printf("\n### Ray-rate ceiling: %s, %dx%d, %s, %s clock\n\n", scene->source.c_str(), o.common.width,
                 o.common.height, settings.describe().c_str(), o.clock.c_str());
     std::printf("BVH: %zu triangles, build %.3f s, %.2f MiB (Embree memory monitor)\n\n", scene->triangle_count(),
-                probe.accel().stats().build_seconds, double(probe.accel().stats().bytes) / (1024.0 * 1024.0));
+                probe.traceable().accel().stats().build_seconds,
+                double(probe.traceable().accel().stats().bytes) / (1024.0 * 1024.0));
     std::printf(
         "| threads | round | path tracer Mrays/s | Embree camera | Embree bounce | Embree shadow | Embree on the "
         "path tracer's mix | fraction of ceiling | minimal kernel Mrays/s | its fraction |\n"
@@ -51,10 +52,9 @@ void rays_section(const BenchOptions& o, std::shared_ptr<const Scene> scene, con
             ro.seconds_per_kind = o.rays_seconds / 3.0;
             ro.seed = 17u + uint32_t(round);
             ro.cpu_clock = o.clock == "cpu";
-            const RayRates rates = measure_ray_rates(*scene, r.accel(), r.lights(), r.environment(), r.camera(), ro);
+            const RayRates rates = measure_ray_rates(r.traceable(), r.camera(), ro);
             const double ceiling = rates.mix_rate(mix);
-            const MinimalKernelRate mk =
-                measure_minimal_kernel(*scene, r.accel(), r.lights(), r.environment(), r.camera(), ro);
+            const MinimalKernelRate mk = measure_minimal_kernel(r.traceable(), r.camera(), ro);
             const double mk_ceiling = rates.mix_rate(mk.mix);
             fractions.push_back(pt / ceiling);
             minimal_fractions.push_back(mk.rays_per_second / mk_ceiling);

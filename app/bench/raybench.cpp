@@ -38,15 +38,14 @@ struct RaySets {
 };
 
 // The random walk behind both the recorded ray sets and the minimal kernel: one jittered camera ray for pixel
-// (x, y); from each hit, one shadow ray to a light point (or toward the environment when there are no emitters),
-// built as the integrator builds it, and a cosine-distributed bounce, up to walk_depth bounces. Every surface is
-// treated as white Lambertian. `camera_ray`, `bounce_ray` and `on_shadow` receive the rays; the closest-hit ones
-// are traced here (the walk needs their hits), on_shadow decides what to do with its ray (built by the integrator's
-// own pv::shadow_ray).
+// (x, y); from each hit, one shadow ray to a light sample (a point on an emitter or a direction toward the
+// environment, chosen by TraceableScene::sample_light as the integrator chooses), built as the integrator builds it,
+// and a cosine-distributed bounce, up to walk_depth bounces. Every surface is treated as white Lambertian.
+// `camera_ray`, `bounce_ray` and `on_shadow` receive the rays; the closest-hit ones are traced here (the walk needs
+// their hits), on_shadow decides what to do with its ray (built by the integrator's own pv::shadow_ray).
 template <class OnCamera, class OnBounce, class OnShadow>
-inline void random_walk(const Scene& scene, const Accel& accel, const LightSet& lights, const Environment& env,
-                        const Camera& camera, int x, int y, int walk_depth, Pcg32& rng, OnCamera&& camera_ray,
-                        OnBounce&& bounce_ray, OnShadow&& on_shadow) {
+inline void random_walk(const TraceableScene& ts, const Camera& camera, int x, int y, int walk_depth, Pcg32& rng,
+                        OnCamera&& camera_ray, OnBounce&& bounce_ray, OnShadow&& on_shadow) {
     auto u2 = [&] {
         const float a = rng.next_float();
         return vec2(a, rng.next_float());
@@ -55,24 +54,16 @@ inline void random_walk(const Scene& scene, const Accel& accel, const LightSet& 
     camera_ray(ray);
     for (int depth = 0; depth <= walk_depth; ++depth) {
         Hit hit;
-        if (!accel.intersect(ray, hit)) break;
-        const SurfacePoint sp = surface_point(scene, hit);
+        if (!ts.intersect(ray, hit)) break;
+        const SurfacePoint sp = surface_point(ts.scene(), hit);
         const vec3 p = sp.p, e = sp.p_error;
         const vec3 n = glm::dot(sp.ng, ray.d) > 0.f ? -sp.ng : sp.ng;  // the side the ray came from
-        if (!lights.empty()) {
-            const float u_sel = rng.next_float();
+        if (ts.has_lights()) {
+            const float u_sel = ts.light_selection_draw() ? rng.next_float() : 0.f;
             LightSample ls;
-            if (lights.sample(p, u_sel, u2(), ls)) {
+            if (ts.sample_light(p, u_sel, u2(), ls)) {
                 const Ray s = pv::shadow_ray(offset_ray_origin(p, glm::dot(ls.wi, n) > 0.f ? n : -n, e), ls);
                 on_shadow(s, ls.le * (std::fabs(glm::dot(ls.wi, n)) / ls.pdf));
-            }
-        } else if (!env.is_black()) {
-            if (auto es = env.sample(u2())) {
-                LightSample ls;
-                ls.wi = es->wi;
-                ls.dist = std::numeric_limits<float>::infinity();
-                const Ray s = pv::shadow_ray(offset_ray_origin(p, glm::dot(es->wi, n) > 0.f ? n : -n, e), ls);
-                on_shadow(s, es->le * (std::fabs(glm::dot(es->wi, n)) / es->pdf));
             }
         }
         if (depth == walk_depth) break;
@@ -84,16 +75,14 @@ inline void random_walk(const Scene& scene, const Accel& accel, const LightSet& 
     }
 }
 
-RaySets make_rays(const Scene& scene, const Accel& accel, const LightSet& lights, const Environment& env,
-                  const Camera& camera, const RayBenchOptions& o) {
+RaySets make_rays(const TraceableScene& ts, const Camera& camera, const RayBenchOptions& o) {
     RaySets sets;
     Pcg32 rng(o.seed, 0x6a09e667f3bcc909ull);
     for (int y = 0; y < o.height; ++y)
         for (int x = 0; x < o.width; ++x)
             random_walk(
-                scene, accel, lights, env, camera, x, y, o.walk_depth, rng,
-                [&](const Ray& r) { sets.camera.push_back(r); }, [&](const Ray& r) { sets.bounce.push_back(r); },
-                [&](const Ray& r, vec3) { sets.shadow.push_back(r); });
+                ts, camera, x, y, o.walk_depth, rng, [&](const Ray& r) { sets.camera.push_back(r); },
+                [&](const Ray& r) { sets.bounce.push_back(r); }, [&](const Ray& r, vec3) { sets.shadow.push_back(r); });
     return sets;
 }
 
@@ -148,16 +137,15 @@ double time_rays(tbb::task_arena& arena, int threads, bool cpu_clock, const std:
 
 }  // namespace
 
-RayRates measure_ray_rates(const Scene& scene, const Accel& accel, const LightSet& lights, const Environment& env,
-                           const Camera& camera, const RayBenchOptions& o) {
-    const RaySets sets = make_rays(scene, accel, lights, env, camera, o);
+RayRates measure_ray_rates(const TraceableScene& ts, const Camera& camera, const RayBenchOptions& o) {
+    const RaySets sets = make_rays(ts, camera, o);
     const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     tbb::task_arena arena(threads);
     auto closest = [&](const Ray& r) -> uint64_t {
         Hit h;
-        return accel.intersect(r, h) ? 1u : 0u;
+        return ts.intersect(r, h) ? 1u : 0u;
     };
-    auto shadow = [&](const Ray& r) -> uint64_t { return accel.occluded(r) ? 1u : 0u; };
+    auto shadow = [&](const Ray& r) -> uint64_t { return ts.occluded(r) ? 1u : 0u; };
     // Warm-up: touch the BVH and start the workers outside the timed loops.
     time_rays(arena, threads, false, sets.camera, 0.0, closest);
     RayRates rates;
@@ -167,8 +155,7 @@ RayRates measure_ray_rates(const Scene& scene, const Accel& accel, const LightSe
     return rates;
 }
 
-MinimalKernelRate measure_minimal_kernel(const Scene& scene, const Accel& accel, const LightSet& lights,
-                                         const Environment& env, const Camera& camera, const RayBenchOptions& o) {
+MinimalKernelRate measure_minimal_kernel(const TraceableScene& ts, const Camera& camera, const RayBenchOptions& o) {
     const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     tbb::task_arena arena(threads);
     struct alignas(64) Row {
@@ -189,11 +176,11 @@ MinimalKernelRate measure_minimal_kernel(const Scene& scene, const Accel& accel,
                     Pcg32 rng(hash_combine(o.seed, pass), uint64_t(y));
                     for (int x = 0; x < o.width; ++x)
                         random_walk(
-                            scene, accel, lights, env, camera, x, y, o.walk_depth, rng,
-                            [&](const Ray&) { row.camera++; }, [&](const Ray&) { row.bounce++; },
+                            ts, camera, x, y, o.walk_depth, rng, [&](const Ray&) { row.camera++; },
+                            [&](const Ray&) { row.bounce++; },
                             [&](const Ray& s, vec3 contribution) {
                                 row.shadow++;
-                                if (!accel.occluded(s)) row.sum += contribution.x;
+                                if (!ts.occluded(s)) row.sum += contribution.x;
                             });
                 }
             });

@@ -6,10 +6,8 @@
 
 #include <cstdint>
 
-#include "core/accel.h"
 #include "core/camera.h"
-#include "core/environment.h"
-#include "core/lights.h"
+#include "core/traceable_scene.h"
 
 namespace pv {
 
@@ -40,10 +38,9 @@ struct RayBenchOptions {
 // CPU time of this process (all threads), seconds.
 double process_cpu_seconds();
 
-// Measures the three rates on `accel`. `environment` is used for shadow rays when the scene has no emitters
-// (unbounded rays, as the integrator traces toward the environment).
-RayRates measure_ray_rates(const Scene& scene, const Accel& accel, const LightSet& lights,
-                           const Environment& environment, const Camera& camera, const RayBenchOptions& options);
+// Measures the three rates on `scene`'s BVH. Shadow rays go to its light samples, emitters and environment alike
+// (toward the environment unbounded, as the integrator traces them).
+RayRates measure_ray_rates(const TraceableScene& scene, const Camera& camera, const RayBenchOptions& options);
 
 // A minimal path kernel on the same scene, as a floor for the cost of shading: the random walk behind the
 // recorded rays (white Lambertian everywhere, cosine bounces, one shadow ray per vertex, PCG numbers; no MIS,
@@ -55,8 +52,7 @@ struct MinimalKernelRate {
     RayMix mix;             // the rays it traced
     double estimate = 0.0;  // mean direct-light estimate per camera ray (red), so the work is not optimised away
 };
-MinimalKernelRate measure_minimal_kernel(const Scene& scene, const Accel& accel, const LightSet& lights,
-                                         const Environment& environment, const Camera& camera,
+MinimalKernelRate measure_minimal_kernel(const TraceableScene& scene, const Camera& camera,
                                          const RayBenchOptions& options);
 
 }  // namespace pv

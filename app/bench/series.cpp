@@ -67,9 +67,7 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
     FeatureImage features;  // the camera's first-hit features, for --denoise (same for every seed)
     if (o.denoise) {
         renderer.restart(camera, config.settings, o.common.width, o.common.height);
-        const SceneView view{&renderer.scene(), &renderer.materials(), &renderer.accel(), &renderer.lights(),
-                             &renderer.environment()};
-        features = render_features(view, renderer.camera(), o.common.width, o.common.height);
+        features = render_features(renderer.traceable(), renderer.camera(), o.common.width, o.common.height);
     }
     for (int seed = 0; seed < o.seeds; ++seed) {
         RenderSettings s = config.settings;

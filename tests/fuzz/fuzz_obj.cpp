@@ -47,7 +47,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             pv::Hit hit;
             if (accel.intersect(r, hit) && hit.prim >= scene.triangles.size()) std::abort();
             accel.occluded(r);
-            if (auto ls = lights.sample(centre, 0.5f, pv::vec2(0.3f, 0.6f)); ls && !(ls->pdf > 0.f)) std::abort();
+            pv::LightSample ls;
+            if (lights.sample(centre, 0.5f, pv::vec2(0.3f, 0.6f), ls) && !(ls.pdf > 0.f)) std::abort();
         }
     } catch (const pv::Error&) {
     }

@@ -57,9 +57,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (!pv::is_finite(c.eye) || !pv::is_finite(c.target) || !(c.vfov_deg >= 0.01f && c.vfov_deg <= 179.f) ||
         !(c.aperture >= 0.f) || !(c.focus_distance >= 0.f))
         std::abort();
-    if (!(scene.environment_strength >= 0.f) || !pv::is_finite(scene.sun_irradiance) ||
-        !(scene.sun_irradiance.x >= 0.f) || !(scene.sun_angular_radius_deg >= 0.01f) ||
-        !pv::is_finite(scene.background))
+    if (!(scene.environment.strength >= 0.f) || !pv::is_finite(scene.environment.sun_irradiance) ||
+        !(scene.environment.sun_irradiance.x >= 0.f) || !(scene.environment.sun_angular_radius_deg >= 0.01f) ||
+        !pv::is_finite(scene.environment.background))
         std::abort();
     for (const pv::Material& m : scene.materials)
         if (!pv::is_finite(m.emission)) std::abort();

@@ -93,25 +93,18 @@ void add_uv_sphere(Scene& scene, vec3 centre, float radius, int nu, int nv, uint
         }
 }
 
-Tracer::Tracer(std::shared_ptr<const Scene> scene) : m_scene(std::move(scene)) {
-    m_accel = std::make_unique<Accel>(*m_scene);
-    m_lights = LightSet(*m_scene, m_scene->materials);
-    m_environment = Environment(*m_scene);
-}
-
 void Tracer::for_each_sample(const CameraDesc& camera_desc, const RenderSettings& settings, int width, int height,
                              int spp, const std::function<void(int, int, uint32_t, vec3)>& fn,
                              bool pixel_centre) const {
     const ScopedFtzDaz ftz;  // the renderer's floating-point mode
     const Camera camera(camera_desc, width, height);
-    const SceneView v = view();
     Sampler sampler(settings.seed, settings.sampler);
     PathCounters counters;
     for (int index = 0; index < spp; ++index)
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
                 const Ray ray = camera_ray(camera, sampler, x, y, uint32_t(index), pixel_centre);
-                fn(x, y, uint32_t(index), trace_path(v, settings, ray, sampler, counters));
+                fn(x, y, uint32_t(index), trace_path(*this, settings, ray, sampler, counters));
             }
 }
 

@@ -6,13 +6,11 @@
 #include <functional>
 #include <memory>
 
-#include "core/accel.h"
 #include "core/camera.h"
-#include "core/environment.h"
 #include "core/film.h"
 #include "core/integrator.h"
-#include "core/lights.h"
 #include "core/scene.h"
+#include "core/traceable_scene.h"
 
 namespace pv::test {
 
@@ -28,17 +26,11 @@ void add_icosphere(Scene& scene, vec3 centre, float radius, int subdiv, uint32_t
 // (the exact sphere normals), which makes a low-poly sphere's shading disagree with its facets.
 void add_uv_sphere(Scene& scene, vec3 centre, float radius, int nu, int nv, uint32_t material, bool smooth);
 
-// A scene prepared for tracing: BVH and light set, shared read-only.
-class Tracer {
+// A scene prepared for tracing (the renderer's TraceableScene, from the scene's own materials and environment),
+// with single-threaded sample-by-sample rendering on top.
+class Tracer : public TraceableScene {
 public:
-    explicit Tracer(std::shared_ptr<const Scene> scene);
-    const Scene& scene() const { return *m_scene; }
-    const Accel& accel() const { return *m_accel; }
-    const LightSet& lights() const { return m_lights; }
-    const Environment& environment() const { return m_environment; }
-    SceneView view() const {
-        return SceneView{m_scene.get(), &m_scene->materials, m_accel.get(), &m_lights, &m_environment};
-    }
+    using TraceableScene::TraceableScene;
 
     // Calls fn(x, y, index, L) for `spp` samples of every pixel, single-threaded, with the Renderer's samples
     // (camera_ray, then trace_path) and floating-point mode (FTZ/DAZ). With pixel_centre the camera ray goes through
@@ -48,12 +40,6 @@ public:
     // Accumulates for_each_sample into a Film (dropped samples counted into *dropped when given).
     Film render(const CameraDesc& camera, const RenderSettings& settings, int width, int height, int spp,
                 bool pixel_centre = false, uint64_t* dropped = nullptr) const;
-
-private:
-    std::shared_ptr<const Scene> m_scene;
-    std::unique_ptr<Accel> m_accel;
-    LightSet m_lights;
-    Environment m_environment;
 };
 
 // Renders through the Renderer (threads workers, spp passes) and returns its film.

@@ -1,0 +1,122 @@
+// core/traceable_scene.h: the scene prepared for tracing, in one object (after Tungsten's TraceableScene): the
+// Scene, its current (possibly edited) materials, the BVH over it, the emissive triangles as a light set and the
+// environment (sky and sun). It answers the integrator's and the picker's queries: closest hit, occlusion, the
+// surface under a film position, and one light interface over triangles, environment and sun together, with the
+// probabilities of choosing between them inside it.
+//
+// Lights: next-event estimation picks the environment with probability p_env (0 when it is black, 1 when there are
+// no emissive triangles, else 1/2; the environment itself chooses between sky and sun) and otherwise a triangle by
+// power (LightSet). sample_light's pdf, and light_pdf_hit / light_pdf_escape, include that selection probability,
+// so a caller weighs a BSDF-sampled emitter against light sampling without knowing how the light was chosen.
+//
+// Read-only and shared by all render threads; set_materials and set_environment are not concurrent with queries.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/accel.h"
+#include "core/camera.h"
+#include "core/environment.h"
+#include "core/lights.h"
+#include "core/scene.h"
+
+namespace pv {
+
+// Details of the surface under a film position (for picking materials, re-targeting the orbit and focusing).
+struct PickResult {
+    uint32_t triangle = kNoIndex;
+    uint32_t material = kNoIndex;
+    float distance = 0.f;  // along the unit primary ray
+    vec3 position{0.f};
+};
+
+class TraceableScene {
+public:
+    // Builds the BVH (throws pv::Error on failure; build_progress: see Accel), the light set and the environment
+    // from the scene's own materials and environment settings. Embree builds on the calling thread's TBB arena.
+    explicit TraceableScene(std::shared_ptr<const Scene> scene, const std::function<void(double)>& build_progress = {});
+    ~TraceableScene();
+    TraceableScene(const TraceableScene&) = delete;
+    TraceableScene& operator=(const TraceableScene&) = delete;
+
+    // Replaces the materials (same count as the scene's; ignored otherwise): the BVH is kept (its alpha filter sees
+    // the edited cut-outs), the light set is rebuilt.
+    void set_materials(const std::vector<Material>& materials);
+    // Replaces the environment's parameters (sky colour, map rotation and strength, sun); the map is the scene's.
+    void set_environment(const EnvironmentSettings& settings);
+
+    const Scene& scene() const { return *m_scene; }
+    const std::shared_ptr<const Scene>& scene_ptr() const { return m_scene; }
+    const std::vector<Material>& materials() const { return m_materials; }
+    const Material& material(uint32_t prim) const { return m_materials[m_scene->material_ids[prim]]; }
+    const Accel& accel() const { return *m_accel; }
+    const LightSet& triangle_lights() const { return m_lights; }
+    const Environment& environment() const { return m_environment; }
+    const EnvironmentSettings& environment_settings() const { return m_environment_settings; }
+
+    // Closest hit and occlusion (see Accel).
+    bool intersect(const Ray& ray, Hit& hit) const { return m_accel->intersect(ray, hit); }
+    bool occluded(const Ray& ray) const { return m_accel->occluded(ray); }
+    // The surface seen through film position film_px (pixels) of `camera`, by its primary ray through the lens
+    // centre; nothing when the ray leaves the scene.
+    std::optional<PickResult> pick(const Camera& camera, vec2 film_px) const;
+
+    // ---- Lights: emissive triangles, environment and sun as one.
+    // True if light sampling can find any light.
+    bool has_lights() const { return !m_lights.empty() || m_p_env > 0.f; }
+    // True if sample_light uses u_select (false when the environment is the only light: callers skip that draw).
+    bool light_selection_draw() const { return m_p_env != 1.f; }
+    // Samples a light direction from `ref` into `ls` (pdf per solid angle, the selection probability included; an
+    // environment sample has dist = infinity). False (ls unspecified) when the sample is useless.
+    bool sample_light(vec3 ref, float u_select, vec2 u, LightSample& ls) const;
+    // The pdf sample_light would give point p (normal n) on emissive triangle `tri` from `ref`.
+    float light_pdf_hit(uint32_t tri, vec3 ref, vec3 p, vec3 n) const {
+        return (1.f - m_p_env) * m_lights.pdf(tri, ref, p, n);
+    }
+    // The pdf sample_light would give the environment in direction dir.
+    float light_pdf_escape(vec3 dir) const { return m_p_env * m_environment.pdf(dir); }
+    // Emission a ray finds: on a hit with material `mat` from the front (or not), mat.emission when emits() (a
+    // one-sided emitter is black behind); on leaving the scene in direction dir, emitted_escape(dir), nothing when
+    // environment_black().
+    static bool emits(const Material& mat, bool front) {
+        return mat.has_emission() && (front || mat.two_sided_emission);
+    }
+    bool environment_black() const { return m_environment.is_black(); }
+    vec3 emitted_escape(vec3 dir) const { return m_environment.eval(dir); }
+    // Probability that sample_light picks the environment rather than a triangle.
+    float environment_selection_probability() const { return m_p_env; }
+
+private:
+    void update_selection();
+
+    std::shared_ptr<const Scene> m_scene;
+    std::vector<Material> m_materials;
+    std::unique_ptr<Accel> m_accel;
+    LightSet m_lights;
+    EnvironmentSettings m_environment_settings;
+    Environment m_environment;
+    float m_p_env = 0.f;
+};
+
+// Inline: the path tracer's per-vertex call.
+inline bool TraceableScene::sample_light(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
+    const float p_env = m_p_env;
+    if (u_select < p_env) {
+        const std::optional<EnvironmentSample> es = m_environment.sample(u);
+        if (!es) return false;
+        ls.wi = es->wi;
+        ls.le = es->le;
+        ls.pdf = p_env * es->pdf;
+        ls.dist = std::numeric_limits<float>::infinity();
+        return true;
+    }
+    if (!m_lights.sample(ref, (u_select - p_env) / (1.f - p_env), u, ls)) return false;
+    ls.pdf *= 1.f - p_env;
+    return true;
+}
+
+}  // namespace pv

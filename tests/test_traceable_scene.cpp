@@ -1,0 +1,136 @@
+// tests/test_traceable_scene.cpp: the scene prepared for tracing (core/traceable_scene.h): its one light interface
+// over emissive triangles, sky and sun (selection probabilities, sampling against its own pdfs by chi-square),
+// picking, and material and environment edits.
+#include <gtest/gtest.h>
+
+#include "core/surface.h"
+#include "core/traceable_scene.h"
+#include "tests/support/chi2.h"
+#include "tests/support/scenes.h"
+
+namespace pv {
+namespace {
+
+// A light quad above the origin (its front facing up, away from it: the pdfs do not depend on that), optionally a
+// constant sky and a wide sun off to the side.
+std::shared_ptr<Scene> lit_scene(bool quad, vec3 sky, vec3 sun_irradiance) {
+    auto scene = std::make_shared<Scene>();
+    Material light;
+    light.emission = vec3(3.f, 2.f, 1.f);
+    Material grey;
+    const uint32_t ml = test::add_material(*scene, light), mg = test::add_material(*scene, grey);
+    test::add_quad(*scene, vec3(-1, 2, -1), vec3(-1, 2, 1), vec3(1, 2, 1), vec3(1, 2, -1), quad ? ml : mg);
+    scene->environment.background = sky;
+    scene->environment.sun_direction = vec3(1.f, 0.3f, 0.f);
+    scene->environment.sun_angular_radius_deg = 10.f;  // wide: the chi-square grid resolves it
+    scene->environment.sun_irradiance = sun_irradiance;
+    return scene;
+}
+
+TEST(TraceableScene, SelectionProbabilityFollowsWhatShines) {
+    struct Case {
+        bool quad;
+        vec3 sky, sun;
+        float p_env;
+        bool has_lights, select_draw;
+    };
+    const Case cases[] = {
+        {true, vec3(0.f), vec3(0.f), 0.f, true, true},     // triangles only
+        {false, vec3(0.5f), vec3(0.f), 1.f, true, false},  // sky only: no selection draw
+        {false, vec3(0.f), vec3(2.f), 1.f, true, false},   // sun only
+        {true, vec3(0.5f), vec3(2.f), 0.5f, true, true},   // both: half each
+        {false, vec3(0.f), vec3(0.f), 0.f, false, true},   // nothing shines
+    };
+    for (const Case& c : cases) {
+        const TraceableScene ts(lit_scene(c.quad, c.sky, c.sun));
+        EXPECT_EQ(ts.environment_selection_probability(), c.p_env) << c.quad << " " << c.sky.x << " " << c.sun.x;
+        EXPECT_EQ(ts.has_lights(), c.has_lights);
+        EXPECT_EQ(ts.light_selection_draw(), c.select_draw);
+    }
+}
+
+// The direction pdf of the light interface: light_pdf_escape everywhere plus light_pdf_hit where the direction
+// meets an emissive triangle (nothing else in the scene occludes the quad from the origin).
+double light_direction_pdf(const TraceableScene& ts, vec3 ref, vec3 w) {
+    double pdf = ts.light_pdf_escape(w);
+    Ray ray;
+    ray.o = ref;
+    ray.d = w;
+    Hit hit;
+    if (ts.intersect(ray, hit)) {
+        const SurfacePoint sf = surface_point(ts.scene(), hit);
+        pdf += ts.light_pdf_hit(hit.prim, ref, sf.p, sf.ng);
+    }
+    return pdf;
+}
+
+// sample_light over triangles, sky and sun together draws directions with the density light_pdf_hit and
+// light_pdf_escape give them (selection probabilities included): chi-square, and the pdf integrates to 1.
+TEST(TraceableScene, LightSamplesFollowTheCombinedPdf) {
+    const vec3 ref(0.f);
+    for (const bool quad : {true, false}) {
+        const TraceableScene ts(lit_scene(quad, vec3(0.5f), vec3(2.f)));
+        test::Chi2Options o;
+        o.sample_count = 400000;
+        o.test_count = 2;
+        const auto r = test::chi2_test(
+            [&](Pcg32& g) -> std::optional<vec3> {
+                const float us = g.next_float();
+                const float u0 = g.next_float();
+                const vec2 u(u0, g.next_float());
+                LightSample ls;
+                if (!ts.sample_light(ref, us, u, ls)) return std::nullopt;
+                // The sample's own pdf is the interface's pdf of its direction.
+                const double p = light_direction_pdf(ts, ref, ls.wi);
+                if (std::isinf(ls.dist)) {
+                    EXPECT_NEAR(ls.pdf, ts.light_pdf_escape(ls.wi), 1e-4 * ls.pdf);
+                } else {
+                    EXPECT_NEAR(ls.pdf, p - ts.light_pdf_escape(ls.wi), 2e-3 * ls.pdf);
+                }
+                return ls.wi;
+            },
+            [&](vec3 w) { return light_direction_pdf(ts, ref, w); }, o);
+        EXPECT_TRUE(r.passed) << "quad " << quad << ": " << r.message;
+        EXPECT_NEAR(r.pdf_integral, 1.0, 1e-2) << r.message;
+    }
+}
+
+TEST(TraceableScene, PickFindsTheSurfaceUnderAPixel) {
+    const TraceableScene ts(lit_scene(true, vec3(0.f), vec3(0.f)));
+    CameraDesc d;
+    d.eye = vec3(0.f, 0.f, 0.f);
+    d.target = vec3(0.f, 1.f, 0.f);
+    d.up = vec3(0.f, 0.f, 1.f);
+    d.vfov_deg = 40.f;
+    const Camera camera(d, 64, 64);
+    const std::optional<PickResult> hit = ts.pick(camera, vec2(32.f, 32.f));
+    ASSERT_TRUE(hit.has_value());
+    EXPECT_LT(hit->triangle, 2u);
+    EXPECT_EQ(hit->material, 0u);
+    EXPECT_NEAR(hit->distance, 2.f, 1e-5f);
+    EXPECT_NEAR(hit->position.y, 2.f, 1e-5f);
+    d.target = vec3(0.f, -1.f, 0.f);  // looking away: nothing
+    EXPECT_FALSE(ts.pick(Camera(d, 64, 64), vec2(32.f, 32.f)).has_value());
+}
+
+// Edits rebuild the lights and the selection: an emitter switched off leaves the sky as the only light.
+TEST(TraceableScene, EditsUpdateLightsAndSelection) {
+    TraceableScene ts(lit_scene(true, vec3(0.5f), vec3(0.f)));
+    EXPECT_EQ(ts.environment_selection_probability(), 0.5f);
+    std::vector<Material> edited = ts.materials();
+    edited[0].emission = vec3(0.f);
+    ts.set_materials(edited);
+    EXPECT_TRUE(ts.triangle_lights().empty());
+    EXPECT_EQ(ts.environment_selection_probability(), 1.f);
+    EnvironmentSettings dark = ts.environment_settings();
+    dark.background = vec3(0.f);
+    ts.set_environment(dark);
+    EXPECT_FALSE(ts.has_lights());
+    EXPECT_EQ(ts.environment_settings(), dark);
+    ts.set_materials(ts.scene().materials);
+    EXPECT_EQ(ts.environment_selection_probability(), 0.f);
+    EXPECT_EQ(ts.triangle_lights().size(), 2u);
+}
+
+}  // namespace
+}  // namespace pv
