@@ -63,6 +63,10 @@ inline std::optional<BsdfSample> sample(const Bsdf& bsdf, vec3 wo, float u_lobe,
 inline bool is_delta(const Bsdf& bsdf) {
     return std::holds_alternative<Mirror>(bsdf) || std::holds_alternative<Dielectric>(bsdf);
 }
+// Whether wo and wi are strictly on the same side, where alone the reflection-only lobes (Lambertian, Glossy: the
+// ones a base-colour texture applies to) can be nonzero: where it is false their eval() is zero whatever the colour,
+// so a caller can skip a direction before looking the colour up.
+inline bool reflects(vec3 wo, vec3 wi) { return wo.z > 0.f ? wi.z > 0.f : (wo.z < 0.f && wi.z < 0.f); }
 const char* bsdf_type_name(const Bsdf& bsdf);
 // Sets the diffuse colour (Lambertian albedo, Glossy diffuse clamped so diffuse + specular <= 1); others unchanged.
 void set_base_color(Bsdf& bsdf, vec3 color);
@@ -100,8 +104,7 @@ std::optional<BsdfSample> sample_other(const Bsdf& bsdf, vec3 wo, float u_lobe, 
 inline vec3 eval(const Bsdf& bsdf, vec3 wo, vec3 wi) {
     if (const auto* l = std::get_if<Lambertian>(&bsdf)) {
         // Two-sided: nonzero where wo and wi are strictly on the same side.
-        const bool same_side = wo.z > 0.f ? wi.z > 0.f : (wo.z < 0.f && wi.z < 0.f);
-        return same_side ? l->albedo * kInvPi : vec3(0.f);
+        return reflects(wo, wi) ? l->albedo * kInvPi : vec3(0.f);
     }
     return detail::eval_other(bsdf, wo, wi);
 }

@@ -353,14 +353,15 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
     return finish(Texture(w, h, std::move(texels)));
 }
 
-vec4 Texture::lookup(vec2 uv) const {
-    if (m_texels.empty() && m_codes.empty()) return vec4(1.f);
+// The four texels of a bilinear lookup at uv and their weights; false (no footprint) for a non-finite uv.
+inline bool Texture::footprint(vec2 uv, size_t (&index)[4], float& tx, float& ty) const {
     // Texel centres at (i + 0.5) / width; v flipped because image row 0 is the top.
     const float x = uv.x * float(m_width) - 0.5f;
     const float y = (1.f - uv.y) * float(m_height) - 0.5f;
-    if (!std::isfinite(x) || !std::isfinite(y)) return texel(0);
+    if (!std::isfinite(x) || !std::isfinite(y)) return false;
     const float fx = std::floor(x), fy = std::floor(y);
-    const float tx = x - fx, ty = y - fy;
+    tx = x - fx;
+    ty = y - fy;
     // i mod n in [0, n); no division when i is already in range (uv in [0, 1) but for the last half texel).
     auto wrap = [](long long i, int n) {
         if (i >= 0 && i < n) return static_cast<size_t>(i);
@@ -371,8 +372,33 @@ vec4 Texture::lookup(vec2 uv) const {
     const size_t x0 = wrap(ix, m_width), x1 = x0 + 1 == size_t(m_width) ? 0 : x0 + 1;
     const size_t y0 = wrap(iy, m_height), y1 = y0 + 1 == size_t(m_height) ? 0 : y0 + 1;
     const size_t w = size_t(m_width);
-    return (1.f - ty) * ((1.f - tx) * texel(y0 * w + x0) + tx * texel(y0 * w + x1)) +
-           ty * ((1.f - tx) * texel(y1 * w + x0) + tx * texel(y1 * w + x1));
+    index[0] = y0 * w + x0;
+    index[1] = y0 * w + x1;
+    index[2] = y1 * w + x0;
+    index[3] = y1 * w + x1;
+    return true;
+}
+
+vec4 Texture::lookup(vec2 uv) const {
+    if (m_texels.empty() && m_codes.empty()) return vec4(1.f);
+    size_t i[4];
+    float tx, ty;
+    if (!footprint(uv, i, tx, ty)) return texel(0);
+    return (1.f - ty) * ((1.f - tx) * texel(i[0]) + tx * texel(i[1])) +
+           ty * ((1.f - tx) * texel(i[2]) + tx * texel(i[3]));
+}
+
+void Texture::prefetch(vec2 uv) const {
+    if (m_texels.empty() && m_codes.empty()) return;
+    size_t i[4];
+    float tx, ty;
+    if (!footprint(uv, i, tx, ty)) return;
+    for (const size_t k : i) {
+        if (m_codes.empty())
+            __builtin_prefetch(&m_texels[k]);
+        else
+            __builtin_prefetch(&m_codes[k]);
+    }
 }
 
 std::string resolve_texture_path(const std::string& dir, const std::string& name) {

@@ -37,6 +37,9 @@ public:
                           std::vector<std::string>* warnings = nullptr);
 
     vec4 lookup(vec2 uv) const;  // bilinear, repeat wrap
+    // Starts loading the texels lookup(uv) reads into the cache without waiting for them (no effect on results): a
+    // caller with other work to do before the lookup (a shadow ray to trace) hides the cache miss behind it.
+    void prefetch(vec2 uv) const;
     int width() const { return m_width; }
     int height() const { return m_height; }
     bool has_alpha() const { return m_has_alpha; }
@@ -46,6 +49,7 @@ public:
 
 private:
     vec4 texel(size_t i) const;
+    bool footprint(vec2 uv, size_t (&index)[4], float& tx, float& ty) const;
     int m_width = 0, m_height = 0;
     bool m_has_alpha = false;
     std::vector<vec4> m_texels;     // linear texels, when not every texel is an 8-bit code

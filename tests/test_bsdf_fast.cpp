@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "core/bsdf.h"
 #include "core/rng.h"
@@ -118,6 +119,37 @@ TEST(FastBsdf, LambertianIsTwoSidedWithStrictSides) {
         ASSERT_FALSE(s->is_delta);
         ASSERT_EQ(s->eta, 1.f);
     }
+}
+
+// The integrator traces a textured surface's shadow ray before looking its colour up, and skips directions where
+// reflects(wo, wi) is false: every lobe light sampling evaluates (the non-delta ones) must then be black there,
+// whatever its base colour. Random colours and directions, with both hemispheres and the grazing plane.
+TEST(FastBsdf, NonDeltaLobesAreBlackWhereReflectsIsFalse) {
+    Pcg32 g(21, 22);
+    const std::vector<Bsdf> kinds = {Lambertian{},
+                                     Glossy{vec3(0.5f), vec3(0.04f), 0.2f},
+                                     Glossy{vec3(0.2f), vec3(0.5f), 0.9f},
+                                     Glossy{vec3(0.f), vec3(1.f), 0.01f},
+                                     Mirror{},
+                                     Dielectric{}};
+    auto direction = [&] {
+        vec3 w = square_to_uniform_sphere(vec2(g.next_float(), g.next_float()));
+        if (g.next_float() < 0.1f) w.z = g.next_float() < 0.5f ? 0.f : -0.f;  // in the surface's plane
+        return w;
+    };
+    int black = 0;
+    for (const Bsdf& kind : kinds) {
+        if (is_delta(kind)) continue;  // light sampling never evaluates a delta lobe
+        for (int i = 0; i < 20000; ++i) {
+            Bsdf b = kind;
+            set_base_color(b, vec3(g.next_float(), g.next_float(), g.next_float()));
+            const vec3 wo = direction(), wi = direction();
+            if (reflects(wo, wi)) continue;
+            ASSERT_EQ(eval(b, wo, wi), vec3(0.f)) << bsdf_type_name(b) << " wo.z " << wo.z << " wi.z " << wi.z;
+            ++black;
+        }
+    }
+    EXPECT_GT(black, 30000);  // about half of the 4 x 20000 pairs
 }
 
 // ---------------------------------------------------------------- GGX glossy (one-division form)
