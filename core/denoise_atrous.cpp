@@ -58,6 +58,17 @@ inline float stop_weight(float e) {
     return t * t;
 }
 
+// max(0, n_i . n_j)^64 by six squarings.
+inline float normal_weight(float dot) {
+    float wn = std::max(0.f, dot);
+    wn *= wn;
+    wn *= wn;
+    wn *= wn;
+    wn *= wn;
+    wn *= wn;
+    return wn * wn;
+}
+
 // One tap offset over a run of pixels of one row: the centre's planes (suffix i), the neighbour's (j), and the
 // row accumulators, each pointer at the run's first pixel.
 struct Taps {
@@ -75,14 +86,7 @@ __attribute__((target_clones("avx2", "default"))) void accumulate_taps(const Tap
     float *sr = t.acc[0], *sg = t.acc[1], *sb = t.acc[2], *sv = t.acc_v, *sw = t.acc_w;
     PV_NO_ALIAS_LOOP
     for (int x = 0; x < count; ++x) {
-        // max(0, n_i . n_j)^64 by six squarings.
-        float wn = std::max(0.f, nxi[x] * nxj[x] + nyi[x] * nyj[x] + nzi[x] * nzj[x]);
-        wn *= wn;
-        wn *= wn;
-        wn *= wn;
-        wn *= wn;
-        wn *= wn;
-        wn *= wn;
+        const float wn = normal_weight(nxi[x] * nxj[x] + nyi[x] * nyj[x] + nzi[x] * nzj[x]);
         const float e = std::fabs(zj[x] - zi[x]) * idz[x] * inv_stride + std::fabs(lj[x] - li[x]) * isg[x];
         const float wgt = tap * wn * stop_weight(e);
         sr[x] += wgt * cr[x];
@@ -90,6 +94,51 @@ __attribute__((target_clones("avx2", "default"))) void accumulate_taps(const Tap
         sb[x] += wgt * cb[x];
         sv[x] += wgt * wgt * vj[x];
         sw[x] += wgt;
+    }
+}
+
+// The planes of one pass, for filter_interior.
+struct PassPlanes {
+    const float *nx, *ny, *nz, *z, *inv_dz, *lum, *inv_sigma, *valid, *col[3], *var;
+    float *out[3], *out_var;
+};
+
+constexpr float kCentre = kTap[1] * kTap[1];
+
+// Pixels i0 .. i0 + count - 1 of a row whose eight neighbours at the pass's offsets all lie in the image: all
+// taps of a pixel in one loop body, its centre values and sums in registers. The same operations in the same
+// order as the centre loop, accumulate_taps and the normalisation of the row path, so the result is the same bit
+// for bit.
+__attribute__((target_clones("avx2", "default"))) void filter_interior(const PassPlanes& p, size_t i0, int count,
+                                                                       const ptrdiff_t (&off)[8], const float (&tap)[8],
+                                                                       float inv_stride) {
+    const float *nx = p.nx, *ny = p.ny, *nz = p.nz, *z = p.z, *idz = p.inv_dz, *lum = p.lum, *isg = p.inv_sigma;
+    const float *valid = p.valid, *cr = p.col[0], *cg = p.col[1], *cb = p.col[2], *var = p.var;
+    float *tr = p.out[0], *tg = p.out[1], *tb = p.out[2], *tv = p.out_var;
+    PV_NO_ALIAS_LOOP
+    for (int k = 0; k < count; ++k) {
+        const size_t i = i0 + size_t(k);
+        const float wc = kCentre * valid[i];
+        float sr = wc * cr[i], sg = wc * cg[i], sb = wc * cb[i], sv = wc * wc * var[i], sw = wc;
+        const float nxi = nx[i], nyi = ny[i], nzi = nz[i], zi = z[i], idzi = idz[i], li = lum[i], isgi = isg[i];
+#pragma GCC unroll 8
+        for (int t = 0; t < 8; ++t) {
+            const size_t j = size_t(ptrdiff_t(i) + off[t]);
+            const float wn = normal_weight(nxi * nx[j] + nyi * ny[j] + nzi * nz[j]);
+            const float e = std::fabs(z[j] - zi) * idzi * inv_stride + std::fabs(lum[j] - li) * isgi;
+            const float wgt = tap[t] * wn * stop_weight(e);
+            sr += wgt * cr[j];
+            sg += wgt * cg[j];
+            sb += wgt * cb[j];
+            sv += wgt * wgt * var[j];
+            sw += wgt;
+        }
+        const float keep = 1.f - valid[i];
+        const float inv = 1.f / (sw + keep);
+        tr[i] = (sr + keep * cr[i]) * inv;
+        tg[i] = (sg + keep * cg[i]) * inv;
+        tb[i] = (sb + keep * cb[i]) * inv;
+        tv[i] = (sv + keep * var[i]) * inv * inv;
     }
 }
 
@@ -184,14 +233,13 @@ void AtrousDenoiser::denoise(const Image& mean, const Image& variance_of_mean, I
         }
         for (size_t i = 0; i < n; ++i) lum[i] = 0.2126f * col[0][i] + 0.7152f * col[1][i] + 0.0722f * col[2][i];
 
-        for (int y = 0; y < h; ++y) {
+        auto row_path = [&](int y, int xa, int xb) {
             float *const ar = rows, *const ag = rows + w, *const ab = rows + 2 * w, *const av = rows + 3 * w,
                          *const aw = rows + 4 * w;
             const size_t ri = size_t(y) * size_t(w);
             // The centre tap: weight kTap[1]^2 (all its stopping terms are 1), 0 for an invalid pixel.
-            constexpr float kCentre = kTap[1] * kTap[1];
             PV_NO_ALIAS_LOOP
-            for (int x = 0; x < w; ++x) {
+            for (int x = xa; x < xb; ++x) {
                 const size_t i = ri + size_t(x);
                 const float wc = kCentre * valid[i];
                 ar[x] = wc * col[0][i];
@@ -206,7 +254,7 @@ void AtrousDenoiser::denoise(const Image& mean, const Image& variance_of_mean, I
                 for (int kx = 0; kx < 3; ++kx) {
                     if (kx == 1 && ky == 1) continue;  // the centre, above
                     const int dx = (kx - 1) * stride;
-                    const int x0 = std::max(0, -dx), x1 = std::min(w, w - dx);
+                    const int x0 = std::max(xa, -dx), x1 = std::min(xb, w - dx);
                     if (x1 <= x0) continue;  // a stride wider than the image
                     const size_t ri0 = ri + size_t(x0), rj = size_t(yy) * size_t(w) + size_t(x0 + dx);
                     Taps t;
@@ -230,7 +278,7 @@ void AtrousDenoiser::denoise(const Image& mean, const Image& variance_of_mean, I
             }
             // An invalid pixel has weight sum 0 (its normal 0 zeroes every tap): it keeps its colour and variance.
             PV_NO_ALIAS_LOOP
-            for (int x = 0; x < w; ++x) {
+            for (int x = xa; x < xb; ++x) {
                 const size_t i = ri + size_t(x);
                 const float keep = 1.f - valid[i];
                 const float inv = 1.f / (aw[x] + keep);
@@ -238,6 +286,39 @@ void AtrousDenoiser::denoise(const Image& mean, const Image& variance_of_mean, I
                 tmp[1][i] = (ag[x] + keep * col[1][i]) * inv;
                 tmp[2][i] = (ab[x] + keep * col[2][i]) * inv;
                 tmpv[i] = (av[x] + keep * var[i]) * inv * inv;
+            }
+        };
+        // Offsets and weights of the eight outer taps, in the row path's order.
+        ptrdiff_t off[8];
+        float taps[8];
+        for (int ky = 0, t = 0; ky < 3; ++ky)
+            for (int kx = 0; kx < 3; ++kx)
+                if (kx != 1 || ky != 1) {
+                    off[t] = ptrdiff_t(ky - 1) * stride * w + (kx - 1) * stride;
+                    taps[t++] = kTap[kx] * kTap[ky];
+                }
+        const PassPlanes pp{nrm[0],
+                            nrm[1],
+                            nrm[2],
+                            z,
+                            inv_dz,
+                            lum,
+                            inv_sigma,
+                            valid,
+                            {col[0], col[1], col[2]},
+                            var,
+                            {tmp[0], tmp[1], tmp[2]},
+                            tmpv};
+        for (int y = 0; y < h; ++y) {
+            const size_t ri = size_t(y) * size_t(w);
+            // Rows and columns whose taps all fall inside go through filter_interior; the rest, tap by tap.
+            const bool inner_row = y >= stride && y + stride < h && w > 2 * stride;
+            if (inner_row) {
+                filter_interior(pp, ri + size_t(stride), w - 2 * stride, off, taps, inv_stride);
+                row_path(y, 0, stride);
+                row_path(y, w - stride, w);
+            } else {
+                row_path(y, 0, w);
             }
         }
         for (int c = 0; c < 3; ++c) std::swap(col[c], tmp[c]);

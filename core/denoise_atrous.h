@@ -7,10 +7,11 @@
 //
 // Built for speed on one core: the features are laid out once per camera as planes (one float array per
 // channel; AtrousDenoiser::set_features), with each pixel's normalisers (1 / depth scale, 1 / colour sigma)
-// precomputed; each pass runs tap by tap over whole rows, branch-free, so the compiler vectorises the inner loop; the
+// precomputed; away from the border all eight taps of a pixel run in one branch-free loop body that the compiler
+// vectorises (near the border, tap by tap over row segments, the same arithmetic); the
 // edge-stopping exp(-e) is replaced by max(0, 1 - e/16)^16 (four squarings; within 0.018 of exp(-e) everywhere, 0
 // beyond e = 16). About 9 x 4 taps per pixel. (Before: five passes of 5x5 taps with exp, albedo stopping and scalar
-// loops, 10-14x slower; the 16-spp error at 512x512 Cornell went from 3.6e-4 to 5.9e-4, against 3.7e-3 for the noisy
+// loops, 12-14x slower; the 16-spp error at 512x512 Cornell went from 3.6e-4 to 5.9e-4, against 3.7e-3 for the noisy
 // 32-spp image: docs/denoise.md.)
 #pragma once
 
