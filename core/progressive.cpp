@@ -255,9 +255,10 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
         m_features = render_features(m_renderer.traceable(), m_renderer.camera(), film.width(), film.height(), 4,
                                      m_renderer.settings().seed);
         m_features_generation = generation;
+        m_atrous.set_features(m_features);
     }
-    const Image denoised = denoise_atrous(film.mean(), film.variance_of_mean(), m_features);
-    m_denoised = denoised.rgb;
+    m_atrous.denoise(film.mean(), film.variance_of_mean(), m_denoised_image);
+    m_denoised = m_denoised_image.rgb;
     m_denoised_generation = generation;
     m_denoised_spp = spp;
     m_denoise_end = std::chrono::steady_clock::now();

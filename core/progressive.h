@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "core/aov.h"
+#include "core/denoise_atrous.h"
 #include "core/partial.h"
 #include "core/renderer.h"
 
@@ -138,6 +139,8 @@ private:
     FeatureImage m_features;
     uint64_t m_features_generation = 0;
     std::vector<float> m_denoised;
+    AtrousDenoiser m_atrous;  // keeps its feature planes and memory between frames
+    Image m_denoised_image;
     uint64_t m_denoised_generation = 0;
     uint32_t m_denoised_spp = 0;
     double m_denoise_seconds = 0.0;

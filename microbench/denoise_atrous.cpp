@@ -1,5 +1,7 @@
 // microbench/denoise_atrous.cpp: the interactive denoiser's time per 512x512 frame of the built-in Cornell box
-// (4 spp, first-hit features), on the calling thread only. Run: build/microbench/pathview_microbench_denoise
+// (4 spp, first-hit features), on the calling thread only: a fresh call (features laid out and memory allocated
+// every time) and the viewer's per-frame cost (one denoiser kept, features laid out once). Run:
+// build/microbench/pathview_microbench_denoise
 #include "core/denoise_atrous.h"
 
 #include <benchmark/benchmark.h>
@@ -33,6 +35,20 @@ void BM_AtrousCornell512(benchmark::State& state) {
     state.SetItemsProcessed(state.iterations() * 512 * 512);
 }
 BENCHMARK(BM_AtrousCornell512)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+
+// What the viewer pays per new pass: one denoiser kept across frames, its features laid out once per camera.
+void BM_AtrousCornell512PerFrame(benchmark::State& state) {
+    const Frame& f = cornell_frame();
+    pv::AtrousDenoiser d;
+    pv::Image out;
+    d.set_features(f.features);
+    for (auto _ : state) {
+        d.denoise(f.mean, f.variance, out);
+        benchmark::DoNotOptimize(out.rgb.data());
+    }
+    state.SetItemsProcessed(state.iterations() * 512 * 512);
+}
+BENCHMARK(BM_AtrousCornell512PerFrame)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 
 }  // namespace
 
