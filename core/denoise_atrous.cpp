@@ -72,6 +72,14 @@ inline float normal_weight(float dot) {
 
 // One tap offset over a run of pixels of one row: the centre's planes (suffix i), the neighbour's (j), and the
 // row accumulators, each pointer at the run's first pixel.
+// Cloned for AVX2 where the CPU has it (an ifunc picks the version at load time). Not under the sanitizers: the ifunc
+// resolver runs before ThreadSanitizer's runtime is initialised, and the TSan test binary crashed at start-up.
+#if defined(PATHVIEW_SANITIZED)
+#define PV_AVX2_CLONES
+#else
+#define PV_AVX2_CLONES __attribute__((target_clones("avx2", "default")))
+#endif
+
 struct Taps {
     const float *ni[3], *nj[3], *cj[3];
     const float *zi, *zj, *inv_dz, *li, *lj, *inv_sigma, *vj;
@@ -79,8 +87,7 @@ struct Taps {
 };
 
 // Cloned for AVX2 (8 floats a vector) where the CPU has it; the default SSE2 version everywhere else.
-__attribute__((target_clones("avx2", "default"))) void accumulate_taps(const Taps& t, int count, float tap,
-                                                                       float inv_stride) {
+PV_AVX2_CLONES void accumulate_taps(const Taps& t, int count, float tap, float inv_stride) {
     const float *nxi = t.ni[0], *nyi = t.ni[1], *nzi = t.ni[2], *nxj = t.nj[0], *nyj = t.nj[1], *nzj = t.nj[2];
     const float *cr = t.cj[0], *cg = t.cj[1], *cb = t.cj[2], *vj = t.vj;
     const float *zi = t.zi, *zj = t.zj, *idz = t.inv_dz, *li = t.li, *lj = t.lj, *isg = t.inv_sigma;
@@ -110,9 +117,8 @@ constexpr float kCentre = kTap[1] * kTap[1];
 // taps of a pixel in one loop body, its centre values and sums in registers. The same operations in the same
 // order as the centre loop, accumulate_taps and the normalisation of the row path, so the result is the same bit
 // for bit.
-__attribute__((target_clones("avx2", "default"))) void filter_interior(const PassPlanes& p, size_t i0, int count,
-                                                                       const ptrdiff_t (&off)[8], const float (&tap)[8],
-                                                                       float inv_stride) {
+PV_AVX2_CLONES void filter_interior(const PassPlanes& p, size_t i0, int count, const ptrdiff_t (&off)[8],
+                                    const float (&tap)[8], float inv_stride) {
     const float *nx = p.nx, *ny = p.ny, *nz = p.nz, *z = p.z, *idz = p.inv_dz, *lum = p.lum, *isg = p.inv_sigma;
     const float *valid = p.valid, *cr = p.col[0], *cg = p.col[1], *cb = p.col[2], *var = p.var;
     float *tr = p.out[0], *tg = p.out[1], *tb = p.out[2], *tv = p.out_var;
