@@ -1,6 +1,7 @@
 // core/traceable_scene.cpp: building and editing the scene prepared for tracing (see traceable_scene.h).
 #include "core/traceable_scene.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace pv {
@@ -44,7 +45,8 @@ void TraceableScene::update_selection() {
         m_p_env = 0.f;
     else
         m_p_env = m_lights.empty() ? 1.f : 0.5f;
-    m_p_portal = m_p_env > 0.f && !m_portals.empty() && m_portal_area > 0.f && std::isfinite(m_portal_area)
+    m_p_portal = m_p_env > 0.f && m_environment.sun_probability() < 1.f && !m_portals.empty() && m_portal_area > 0.f &&
+                         std::isfinite(m_portal_area)
                      ? kPortalProbability
                      : 0.f;
 }
@@ -81,22 +83,36 @@ bool TraceableScene::sample_portal(vec3 ref, float u_pick, vec2 u, vec3& wi) con
     return true;
 }
 
+float TraceableScene::environment_pdf_with_portals(vec3 ref, vec3 dir) const {
+    const float p_sun = m_environment.sun_probability(), q = m_p_portal;
+    return p_sun * m_environment.pdf_sun(dir) +
+           (1.f - p_sun) * ((1.f - q) * m_environment.pdf_sky(dir) + q * portal_pdf(ref, dir));
+}
+
 bool TraceableScene::sample_environment_with_portals(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
-    const float q = m_p_portal;
+    // The sun as before (u.x below its probability); the sky's share goes to the portals when u_select < q.
+    const float p_sun = m_environment.sun_probability(), q = m_p_portal;
     vec3 wi;
-    float env_pdf;
-    if (u_select < q) {
-        if (!sample_portal(ref, u_select / q, u, wi)) return false;
-        env_pdf = m_environment.pdf(wi);
+    if (u.x >= p_sun && u_select < q) {
+        const vec2 up(std::min((u.x - p_sun) / (1.f - p_sun), 0x1.fffffep-1f), u.y);
+        if (!sample_portal(ref, u_select / q, up, wi)) return false;
         ls.le = m_environment.eval(wi);
     } else {
         const std::optional<EnvironmentSample> es = m_environment.sample(u);
         if (!es) return false;
         wi = es->wi;
-        env_pdf = es->pdf;
         ls.le = es->le;
+        // A sky direction outside the sun: es->pdf is (1 - p_sun) pdf_sky, no second texel search.
+        if (u.x >= p_sun && m_environment.pdf_sun(wi) == 0.f) {
+            const float pdf = m_p_env * ((1.f - q) * es->pdf + (1.f - p_sun) * q * portal_pdf(ref, wi));
+            if (!(pdf > 0.f)) return false;
+            ls.wi = wi;
+            ls.pdf = pdf;
+            ls.dist = std::numeric_limits<float>::infinity();
+            return true;
+        }
     }
-    const float pdf = m_p_env * ((1.f - q) * env_pdf + q * portal_pdf(ref, wi));
+    const float pdf = m_p_env * environment_pdf_with_portals(ref, wi);
     if (!(pdf > 0.f)) return false;
     ls.wi = wi;
     ls.pdf = pdf;

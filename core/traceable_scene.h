@@ -10,11 +10,12 @@
 // so a caller weighs a BSDF-sampled emitter against light sampling without knowing how the light was chosen.
 //
 // Portals (Scene::portals, the openings an interior is lit through; Cycles' portal lights, Bitterli et al. 2015):
-// when there are any and the environment shines, an environment sample is a one-sample mixture: with probability
-// kPortalProbability a point uniform by area over the portals (a portal picked by area), direction toward it,
-// radiance eval() there, shadow ray to infinity as for any environment sample; otherwise the environment's own
-// sampling. The direction pdf is (1 - q) env.pdf(w) + q sum over the portals the ray (ref, w) crosses of
-// d^2 / (A_total |cos|), so light_pdf_escape needs the ray's origin. The environment keeps its own sampling in the
+// when there are any and the sky shines, the sky's share of an environment sample becomes a one-sample mixture:
+// with probability kPortalProbability a point uniform by area over the portals (a portal picked by area),
+// direction toward it, radiance eval() there, shadow ray to infinity as for any environment sample; otherwise the
+// sky's own sampling. The sun keeps its share (sampling it less often doubled the sunlit room's error). The
+// direction pdf is p_sun pdf_sun + (1 - p_sun) ((1 - q) pdf_sky + q sum over the portals the ray (ref, w) crosses
+// of d^2 / (A_total |cos|)), so light_pdf_escape needs the ray's origin. The sky keeps its own sampling in the
 // mixture: a portal that misses the opening costs variance, never bias. Without portals nothing changes (same
 // draws, same pdfs, bit-identical images).
 //
@@ -91,7 +92,7 @@ public:
     // it depend on where the ray starts).
     float light_pdf_escape(vec3 ref, vec3 dir) const {
         if (m_p_portal == 0.f) return m_p_env * m_environment.pdf(dir);
-        return m_p_env * ((1.f - m_p_portal) * m_environment.pdf(dir) + m_p_portal * portal_pdf(ref, dir));
+        return m_p_env * environment_pdf_with_portals(ref, dir);
     }
     // Emission a ray finds: on a hit with material `mat` from the front (or not), mat.emission when emits() (a
     // one-sided emitter is black behind); on leaving the scene in direction dir, emitted_escape(dir), nothing when
@@ -103,7 +104,7 @@ public:
     vec3 emitted_escape(vec3 dir) const { return m_environment.eval(dir); }
     // Probability that sample_light picks the environment rather than a triangle.
     float environment_selection_probability() const { return m_p_env; }
-    // Probability that an environment sample aims through a portal (0 without portals or with a black environment).
+    // Probability that a sample of the sky aims through a portal (0 without portals or with a black sky).
     static constexpr float kPortalProbability = 0.5f;
     float portal_probability() const { return m_p_portal; }
     // Solid-angle pdf of the portal sampling alone (a point uniform by area over all portals) toward dir (unit)
@@ -116,6 +117,8 @@ private:
     void update_selection();
     // The environment's sample when there are portals (u_select in [0, 1): portal or environment, then which portal).
     bool sample_environment_with_portals(vec3 ref, float u_select, vec2 u, LightSample& ls) const;
+    // The environment's pdf toward dir from ref when there are portals (without the selection probability p_env).
+    float environment_pdf_with_portals(vec3 ref, vec3 dir) const;
 
     std::shared_ptr<const Scene> m_scene;
     std::vector<Material> m_materials;
