@@ -38,6 +38,12 @@ public:
     vec3 eval(vec3 dir) const;
     std::optional<EnvironmentSample> sample(vec2 u) const;
     float pdf(vec3 dir) const;
+    // The parts of pdf(): pdf(d) = sun_probability() pdf_sun(d) + (1 - sun_probability()) pdf_sky(d) (light portals
+    // replace part of the sky's sampling only, see traceable_scene.h). sample() with u.x < sun_probability() samples
+    // the sun, otherwise the sky.
+    float sun_probability() const { return m_p_sun; }
+    float pdf_sun(vec3 dir) const;
+    float pdf_sky(vec3 dir) const;
 
     // The equirectangular parameterisation (exposed for tests): uv in [0,1)^2, v = 0 at the zenith.
     // direction_to_uv is the libm reference; eval/pdf use direction_to_texel, which agrees with
@@ -66,9 +72,7 @@ private:
     bool in_sun(vec3 dir) const;  // dir (any length, not 0) within the sun's angular radius
     vec3 eval_sun(vec3 dir) const;
     vec3 eval_sky(vec3 dir) const;
-    float pdf_sky(vec3 dir) const;
     float pdf_sky_texel(size_t texel, float sin_theta) const;  // map pdf toward a direction in that texel
-    float pdf_sun(vec3 dir) const;
     // Texel index row * width + column of dir, and sin(theta) of dir (0 at the poles).
     size_t texel_index(vec3 dir, float* sin_theta) const;
     const Texture* m_map = nullptr;

@@ -58,7 +58,7 @@ vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ra
                 if (!nee || specular_bounce)
                     L += beta * le;
                 else
-                    L += beta * le * bsdf_hit_weight(mis, prev_pdf, ts.light_pdf_escape(ray.d));
+                    L += beta * le * bsdf_hit_weight(mis, prev_pdf, ts.light_pdf_escape(prev_p, ray.d));
             }
             break;
         }

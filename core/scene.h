@@ -55,6 +55,15 @@ struct EnvironmentSettings {
     bool operator!=(const EnvironmentSettings& o) const { return !(*this == o); }
 };
 
+// A light portal: a parallelogram corner + s edge1 + t edge2 (s, t in [0, 1]) through which the environment lights
+// an interior (a window's opening); next-event estimation aims half its environment samples through the portals
+// (see traceable_scene.h). Geometry only: a portal neither blocks nor emits.
+struct Portal {
+    vec3 corner{0.f};
+    vec3 edge1{0.f};
+    vec3 edge2{0.f};
+};
+
 struct Scene {
     std::vector<vec3> positions;
     std::vector<uvec3> triangles;       // indices into positions
@@ -72,6 +81,8 @@ struct Scene {
     uint32_t environment_map = kNoIndex;
     // The sky's and sun's parameters (the sky is the map if any, else the constant background).
     EnvironmentSettings environment;
+    // Light portals toward the environment ("portals" in the JSON); empty: the environment is sampled alone.
+    std::vector<Portal> portals;
     bool has_camera = false;
     // Named camera views saved with the scene file ("bookmarks" in the JSON).
     struct Bookmark {

@@ -120,6 +120,26 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
     m.bsdf = make_bsdf(p);  // the one conversion: keeps a glossy material's diffuse + specular <= 1
 }
 
+// "portals": an array of parallelograms {corner, edge1, edge2}, finite and of non-zero area.
+std::vector<Portal> read_portals(const JsonReader& r, const json& j, const Ptr& at) {
+    if (!j.is_array()) r.fail(at, "expected an array of {corner, edge1, edge2} objects");
+    std::vector<Portal> portals;
+    for (size_t i = 0; i < j.size(); ++i) {
+        const Ptr pi = at / i;
+        const json& o = r.object(j[i], pi, {"corner", "edge1", "edge2"});
+        for (const char* key : {"corner", "edge1", "edge2"})
+            if (!o.contains(key)) r.fail(pi / key, "missing; expected an array of 3 numbers");
+        Portal p;
+        p.corner = r.vec(o["corner"], pi / "corner", -kBig, kBig);
+        p.edge1 = r.vec(o["edge1"], pi / "edge1", -1e15f, 1e15f);
+        p.edge2 = r.vec(o["edge2"], pi / "edge2", -1e15f, 1e15f);
+        const float area = glm::length(glm::cross(p.edge1, p.edge2));
+        if (!(area > 0.f) || !std::isfinite(area)) r.fail(pi, "degenerate portal: edge1 x edge2 has zero area");
+        portals.push_back(p);
+    }
+    return portals;
+}
+
 }  // namespace
 
 Scene load_scene_json_text(const std::string& text, const std::string& path) {
@@ -133,7 +153,8 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     const JsonReader r{path, &warnings};
     const Ptr root;
     r.object(j, root,
-             {"obj", "camera", "background", "environment", "sun", "bookmarks", "two_sided_emitters", "materials"});
+             {"obj", "camera", "background", "environment", "sun", "portals", "bookmarks", "two_sided_emitters",
+              "materials"});
     if (!j.contains("obj")) r.fail(root / "obj", "missing; expected the OBJ file name");
     const std::string obj = r.string(j["obj"], root / "obj");
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
@@ -151,9 +172,12 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     const json& sun =
         j.contains("sun") ? r.object(j["sun"], root / "sun", {"direction", "irradiance", "angular_radius"}) : none;
     const json& materials = j.contains("materials") ? r.object(j["materials"], root / "materials", {}) : none;
+    const std::vector<Portal> portals =
+        j.contains("portals") ? read_portals(r, j["portals"], root / "portals") : std::vector<Portal>{};
 
     Scene scene = load_obj((dir / obj).string(), opts);
     scene.source = path;
+    scene.portals = portals;
     scene.warnings.insert(scene.warnings.end(), warnings.begin(), warnings.end());
     const JsonReader rs{path, &scene.warnings};
     if (j.contains("background")) scene.environment.background = r.vec(j["background"], root / "background", 0.f, kBig);

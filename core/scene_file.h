@@ -7,6 +7,8 @@
 //     "environment": { "map": "sky.exr", "rotation": 0, "strength": 1 },  // equirectangular .exr/.hdr/.png,
 //                                                                         // or "sky": the default sky
 //     "sun": { "direction": [x,y,z], "irradiance": [r,g,b], "angular_radius": 0.27 },  // toward the sun; degrees
+//     "portals": [ { "corner": [x,y,z], "edge1": [x,y,z], "edge2": [x,y,z] } ],  // parallelograms the sky shines
+//                                                 // through (windows): light sampling aims at them (docs/portals.md)
 //     "bookmarks": [ { "name": "door", "eye": [..], "target": [..], "up": [..], "fov": 40, ... } ],
 //     "two_sided_emitters": false,
 //     "materials": { "name": { "type": "diffuse|glossy|mirror|glass", "base_color": [r,g,b],

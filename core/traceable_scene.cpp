@@ -1,10 +1,21 @@
 // core/traceable_scene.cpp: building and editing the scene prepared for tracing (see traceable_scene.h).
 #include "core/traceable_scene.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace pv {
 
 TraceableScene::TraceableScene(std::shared_ptr<const Scene> scene, const std::function<void(double)>& build_progress)
-    : m_scene(std::move(scene)), m_materials(m_scene->materials) {
+    : m_scene(std::move(scene)), m_materials(m_scene->materials), m_portals(m_scene->portals) {
+    double total = 0.0;
+    for (const Portal& p : m_portals) {
+        total += double(glm::length(glm::cross(p.edge1, p.edge2)));
+        m_portal_cdf.push_back(float(total));
+    }
+    for (float& c : m_portal_cdf) c = float(double(c) / total);
+    if (!m_portal_cdf.empty()) m_portal_cdf.back() = 1.f;
+    m_portal_area = float(total);
     m_accel = std::make_unique<Accel>(*m_scene, m_materials, build_progress);
     m_lights = LightSet(*m_scene, m_materials);
     m_environment_settings = m_scene->environment;
@@ -34,6 +45,79 @@ void TraceableScene::update_selection() {
         m_p_env = 0.f;
     else
         m_p_env = m_lights.empty() ? 1.f : 0.5f;
+    m_p_portal = m_p_env > 0.f && m_environment.sun_probability() < 1.f && !m_portals.empty() && m_portal_area > 0.f &&
+                         std::isfinite(m_portal_area)
+                     ? kPortalProbability
+                     : 0.f;
+}
+
+float TraceableScene::portal_pdf(vec3 ref, vec3 dir) const {
+    float pdf = 0.f;
+    for (const Portal& p : m_portals) {
+        const vec3 n = glm::cross(p.edge1, p.edge2);  // length: the portal's area
+        const float cos_n = glm::dot(dir, n);
+        if (cos_n == 0.f) continue;
+        const float t = glm::dot(p.corner - ref, n) / cos_n;
+        if (!(t > 0.f)) continue;
+        // Coordinates of the crossing in (edge1, edge2): d = s e1 + r e2, so d x e2 = s n and e1 x d = r n.
+        const vec3 d = ref + t * dir - p.corner;
+        const float nn = glm::dot(n, n);
+        const float s = glm::dot(glm::cross(d, p.edge2), n) / nn;
+        const float r = glm::dot(glm::cross(p.edge1, d), n) / nn;
+        if (s < 0.f || s > 1.f || r < 0.f || r > 1.f) continue;
+        // Area density 1 / A_total to solid angle: t^2 / |cos| with |cos| = |dir . n| / |n|.
+        pdf += t * t * std::sqrt(nn) / (m_portal_area * std::abs(cos_n));
+    }
+    return std::isfinite(pdf) ? pdf : 0.f;
+}
+
+bool TraceableScene::sample_portal(vec3 ref, float u_pick, vec2 u, vec3& wi) const {
+    if (m_portals.empty()) return false;
+    size_t k = 0;
+    while (k + 1 < m_portal_cdf.size() && u_pick >= m_portal_cdf[k]) ++k;
+    const Portal& p = m_portals[k];
+    const vec3 to = p.corner + u.x * p.edge1 + u.y * p.edge2 - ref;
+    const float len = glm::length(to);
+    if (!(len > 0.f) || !std::isfinite(len)) return false;
+    wi = to / len;
+    return true;
+}
+
+float TraceableScene::environment_pdf_with_portals(vec3 ref, vec3 dir) const {
+    const float p_sun = m_environment.sun_probability(), q = m_p_portal;
+    return p_sun * m_environment.pdf_sun(dir) +
+           (1.f - p_sun) * ((1.f - q) * m_environment.pdf_sky(dir) + q * portal_pdf(ref, dir));
+}
+
+bool TraceableScene::sample_environment_with_portals(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
+    // The sun as before (u.x below its probability); the sky's share goes to the portals when u_select < q.
+    const float p_sun = m_environment.sun_probability(), q = m_p_portal;
+    vec3 wi;
+    if (u.x >= p_sun && u_select < q) {
+        const vec2 up(std::min((u.x - p_sun) / (1.f - p_sun), 0x1.fffffep-1f), u.y);
+        if (!sample_portal(ref, u_select / q, up, wi)) return false;
+        ls.le = m_environment.eval(wi);
+    } else {
+        const std::optional<EnvironmentSample> es = m_environment.sample(u);
+        if (!es) return false;
+        wi = es->wi;
+        ls.le = es->le;
+        // A sky direction outside the sun: es->pdf is (1 - p_sun) pdf_sky, no second texel search.
+        if (u.x >= p_sun && m_environment.pdf_sun(wi) == 0.f) {
+            const float pdf = m_p_env * ((1.f - q) * es->pdf + (1.f - p_sun) * q * portal_pdf(ref, wi));
+            if (!(pdf > 0.f)) return false;
+            ls.wi = wi;
+            ls.pdf = pdf;
+            ls.dist = std::numeric_limits<float>::infinity();
+            return true;
+        }
+    }
+    const float pdf = m_p_env * environment_pdf_with_portals(ref, wi);
+    if (!(pdf > 0.f)) return false;
+    ls.wi = wi;
+    ls.pdf = pdf;
+    ls.dist = std::numeric_limits<float>::infinity();
+    return true;
 }
 
 std::optional<PickResult> TraceableScene::pick(const Camera& camera, vec2 film_px) const {

@@ -9,6 +9,16 @@
 // power (LightSet). sample_light's pdf, and light_pdf_hit / light_pdf_escape, include that selection probability,
 // so a caller weighs a BSDF-sampled emitter against light sampling without knowing how the light was chosen.
 //
+// Portals (Scene::portals, the openings an interior is lit through; Cycles' portal lights, Bitterli et al. 2015):
+// when there are any and the sky shines, the sky's share of an environment sample becomes a one-sample mixture:
+// with probability kPortalProbability a point uniform by area over the portals (a portal picked by area),
+// direction toward it, radiance eval() there, shadow ray to infinity as for any environment sample; otherwise the
+// sky's own sampling. The sun keeps its share (sampling it less often doubled the sunlit room's error). The
+// direction pdf is p_sun pdf_sun + (1 - p_sun) ((1 - q) pdf_sky + q sum over the portals the ray (ref, w) crosses
+// of d^2 / (A_total |cos|)), so light_pdf_escape needs the ray's origin. The sky keeps its own sampling in the
+// mixture: a portal that misses the opening costs variance, never bias. Without portals nothing changes (same
+// draws, same pdfs, bit-identical images).
+//
 // Read-only and shared by all render threads; set_materials and set_environment are not concurrent with queries.
 #pragma once
 
@@ -69,7 +79,8 @@ public:
     // True if light sampling can find any light.
     bool has_lights() const { return !m_lights.empty() || m_p_env > 0.f; }
     // True if sample_light uses u_select (false when the environment is the only light: callers skip that draw).
-    bool light_selection_draw() const { return m_p_env != 1.f; }
+    // With portals the draw also chooses between the portals and the environment's own sampling.
+    bool light_selection_draw() const { return m_p_env != 1.f || m_p_portal > 0.f; }
     // Samples a light direction from `ref` into `ls` (pdf per solid angle, the selection probability included; an
     // environment sample has dist = infinity). False (ls unspecified) when the sample is useless.
     bool sample_light(vec3 ref, float u_select, vec2 u, LightSample& ls) const;
@@ -77,8 +88,12 @@ public:
     float light_pdf_hit(uint32_t tri, vec3 ref, vec3 p, vec3 n) const {
         return (1.f - m_p_env) * m_lights.pdf(tri, ref, p, n);
     }
-    // The pdf sample_light would give the environment in direction dir.
-    float light_pdf_escape(vec3 dir) const { return m_p_env * m_environment.pdf(dir); }
+    // The pdf sample_light would give the environment in direction dir from `ref` (the ray's origin: portals make
+    // it depend on where the ray starts).
+    float light_pdf_escape(vec3 ref, vec3 dir) const {
+        if (m_p_portal == 0.f) return m_p_env * m_environment.pdf(dir);
+        return m_p_env * environment_pdf_with_portals(ref, dir);
+    }
     // Emission a ray finds: on a hit with material `mat` from the front (or not), mat.emission when emits() (a
     // one-sided emitter is black behind); on leaving the scene in direction dir, emitted_escape(dir), nothing when
     // environment_black().
@@ -89,9 +104,21 @@ public:
     vec3 emitted_escape(vec3 dir) const { return m_environment.eval(dir); }
     // Probability that sample_light picks the environment rather than a triangle.
     float environment_selection_probability() const { return m_p_env; }
+    // Probability that a sample of the sky aims through a portal (0 without portals or with a black sky).
+    static constexpr float kPortalProbability = 0.5f;
+    float portal_probability() const { return m_p_portal; }
+    // Solid-angle pdf of the portal sampling alone (a point uniform by area over all portals) toward dir (unit)
+    // from ref: the sum over the portals the ray crosses of d^2 / (A_total |cos|); 0 without portals.
+    float portal_pdf(vec3 ref, vec3 dir) const;
+    // Samples that distribution: u_pick chooses the portal, u the point on it. False when degenerate.
+    bool sample_portal(vec3 ref, float u_pick, vec2 u, vec3& wi) const;
 
 private:
     void update_selection();
+    // The environment's sample when there are portals (u_select in [0, 1): portal or environment, then which portal).
+    bool sample_environment_with_portals(vec3 ref, float u_select, vec2 u, LightSample& ls) const;
+    // The environment's pdf toward dir from ref when there are portals (without the selection probability p_env).
+    float environment_pdf_with_portals(vec3 ref, vec3 dir) const;
 
     std::shared_ptr<const Scene> m_scene;
     std::vector<Material> m_materials;
@@ -100,12 +127,17 @@ private:
     EnvironmentSettings m_environment_settings;
     Environment m_environment;
     float m_p_env = 0.f;
+    float m_p_portal = 0.f;
+    std::vector<Portal> m_portals;
+    std::vector<float> m_portal_cdf;  // cumulative areas / total, last 1
+    float m_portal_area = 0.f;        // total
 };
 
 // Inline: the path tracer's per-vertex call.
 inline bool TraceableScene::sample_light(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
     const float p_env = m_p_env;
     if (u_select < p_env) {
+        if (m_p_portal > 0.f) return sample_environment_with_portals(ref, u_select / p_env, u, ls);
         const std::optional<EnvironmentSample> es = m_environment.sample(u);
         if (!es) return false;
         ls.wi = es->wi;

@@ -52,7 +52,7 @@ TEST(TraceableScene, SelectionProbabilityFollowsWhatShines) {
 // The direction pdf of the light interface: light_pdf_escape everywhere plus light_pdf_hit where the direction
 // meets an emissive triangle (nothing else in the scene occludes the quad from the origin).
 double light_direction_pdf(const TraceableScene& ts, vec3 ref, vec3 w) {
-    double pdf = ts.light_pdf_escape(w);
+    double pdf = ts.light_pdf_escape(ref, w);
     Ray ray;
     ray.o = ref;
     ray.d = w;
@@ -83,9 +83,9 @@ TEST(TraceableScene, LightSamplesFollowTheCombinedPdf) {
                 // The sample's own pdf is the interface's pdf of its direction.
                 const double p = light_direction_pdf(ts, ref, ls.wi);
                 if (std::isinf(ls.dist)) {
-                    EXPECT_NEAR(ls.pdf, ts.light_pdf_escape(ls.wi), 1e-4 * ls.pdf);
+                    EXPECT_NEAR(ls.pdf, ts.light_pdf_escape(ref, ls.wi), 1e-4 * ls.pdf);
                 } else {
-                    EXPECT_NEAR(ls.pdf, p - ts.light_pdf_escape(ls.wi), 2e-3 * ls.pdf);
+                    EXPECT_NEAR(ls.pdf, p - ts.light_pdf_escape(ref, ls.wi), 2e-3 * ls.pdf);
                 }
                 return ls.wi;
             },
