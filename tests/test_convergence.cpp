@@ -70,5 +70,28 @@ TEST(SunlitRoom, RouletteAgreesWithNoRoulette) {
     EXPECT_GT(on.total_mean(), 0.01);
 }
 
+// assets/sunlit-room/window-sky.json: the same room under the sky alone, its window declared as a portal. The
+// portal must lie in the opening: from the middle of the room, rays toward points across the portal (inset from its
+// edges) leave the scene, and the sky is the only light.
+TEST(SunlitRoom, WindowSkyPortalCoversTheWindow) {
+    const auto scene = std::make_shared<const Scene>(load_scene(
+        (std::filesystem::path(builtin_scene_path()).parent_path().parent_path() / "sunlit-room" / "window-sky.json")
+            .string()));
+    EXPECT_TRUE(scene->warnings.empty()) << scene->warnings.front();
+    EXPECT_FALSE(scene->has_emitters());
+    ASSERT_EQ(scene->portals.size(), 1u);
+    const Portal& portal = scene->portals[0];
+    const test::Tracer tracer(scene);
+    const vec3 inside(2.f, 1.5f, 2.5f);
+    for (float a : {0.05f, 0.5f, 0.95f})
+        for (float b : {0.05f, 0.5f, 0.95f}) {
+            Ray ray;
+            ray.o = inside;
+            ray.d = glm::normalize(portal.corner + a * portal.edge1 + b * portal.edge2 - inside);
+            Hit hit;
+            EXPECT_FALSE(tracer.accel().intersect(ray, hit)) << "portal point (" << a << ", " << b << ") is blocked";
+        }
+}
+
 }  // namespace
 }  // namespace pv
