@@ -239,7 +239,7 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
         on = m_denoise;
     }
     if (!on) {
-        m_denoised.clear();
+        m_denoised_image.rgb.clear();
         m_denoised_generation = 0;
         return;
     }
@@ -251,14 +251,15 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
     const bool due =
         force || stale || std::chrono::duration<double>(now - m_denoise_end).count() >= 2.0 * m_denoise_seconds;
     if (!due || (m_denoised_generation == generation && m_denoised_spp == spp)) return;
-    if (m_features_generation != generation || m_features.width != film.width() || m_features.height != film.height()) {
-        m_features = render_features(m_renderer.traceable(), m_renderer.camera(), film.width(), film.height(), 4,
-                                     m_renderer.settings().seed);
+    if (m_features_generation != generation || m_features_width != film.width() || m_features_height != film.height()) {
+        // The filter lays the features out in its own planes; the image itself is not kept.
+        m_atrous.set_features(render_features(m_renderer.traceable(), m_renderer.camera(), film.width(), film.height(),
+                                              4, m_renderer.settings().seed));
         m_features_generation = generation;
-        m_atrous.set_features(m_features);
+        m_features_width = film.width();
+        m_features_height = film.height();
     }
     m_atrous.denoise(film.mean(), film.variance_of_mean(), m_denoised_image);
-    m_denoised = m_denoised_image.rgb;
     m_denoised_generation = generation;
     m_denoised_spp = spp;
     m_denoise_end = std::chrono::steady_clock::now();
@@ -292,8 +293,8 @@ void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool
             m_error_history.emplace_back(double(st.spp), mask.worst_rel_mse());
         s.seconds_to_threshold = mask.converged() ? 0.0 : seconds_to_threshold(a.noise_threshold);
     }
-    if (!m_denoised.empty() && m_denoised_generation == generation) {
-        s.denoised = m_denoised;
+    if (!m_denoised_image.rgb.empty() && m_denoised_generation == generation) {
+        s.denoised = m_denoised_image.rgb;
         s.denoised_spp = m_denoised_spp;
         s.denoise_ms = m_denoise_seconds * 1e3;
     } else {

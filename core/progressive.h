@@ -112,7 +112,7 @@ private:
     bool partial_due() const;  // a requested partial render can be made now
     bool denoise_due() const;  // denoising is on and the film's last state has not been denoised
     void publish(uint64_t generation, bool target_reached, bool force_denoise = false);
-    // On the driver thread: refreshes m_denoised for the current film when due (or forced).
+    // On the driver thread: refreshes m_denoised_image for the current film when due (or forced).
     void update_denoised(uint64_t generation, bool force);
     double seconds_to_threshold(float threshold) const;
 
@@ -134,11 +134,10 @@ private:
     std::function<void()> m_on_publish;
     // (spp, worst active relative MSE) at the adaptive checkpoints of the current accumulation; driver thread.
     std::vector<std::pair<double, double>> m_error_history;
-    // Denoising state, driver thread only: features of the accumulation's camera and size, the last denoised
-    // image, what it was made from, and the filter's timing (for the throttle).
-    FeatureImage m_features;
+    // Denoising state, driver thread only: which accumulation (and size) the filter's features are of, the last
+    // denoised image, what it was made from, and the filter's timing (for the throttle).
     uint64_t m_features_generation = 0;
-    std::vector<float> m_denoised;
+    int m_features_width = 0, m_features_height = 0;
     AtrousDenoiser m_atrous;  // keeps its feature planes and memory between frames
     Image m_denoised_image;
     uint64_t m_denoised_generation = 0;

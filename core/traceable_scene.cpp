@@ -7,9 +7,9 @@
 namespace pv {
 
 TraceableScene::TraceableScene(std::shared_ptr<const Scene> scene, const std::function<void(double)>& build_progress)
-    : m_scene(std::move(scene)), m_materials(m_scene->materials), m_portals(m_scene->portals) {
+    : m_scene(std::move(scene)), m_materials(m_scene->materials) {
     double total = 0.0;
-    for (const Portal& p : m_portals) {
+    for (const Portal& p : m_scene->portals) {
         total += double(glm::length(glm::cross(p.edge1, p.edge2)));
         m_portal_cdf.push_back(float(total));
     }
@@ -45,15 +45,15 @@ void TraceableScene::update_selection() {
         m_p_env = 0.f;
     else
         m_p_env = m_lights.empty() ? 1.f : 0.5f;
-    m_p_portal = m_p_env > 0.f && m_environment.sun_probability() < 1.f && !m_portals.empty() && m_portal_area > 0.f &&
-                         std::isfinite(m_portal_area)
+    m_p_portal = m_p_env > 0.f && m_environment.sun_probability() < 1.f && !m_scene->portals.empty() &&
+                         m_portal_area > 0.f && std::isfinite(m_portal_area)
                      ? kPortalProbability
                      : 0.f;
 }
 
 float TraceableScene::portal_pdf(vec3 ref, vec3 dir) const {
     float pdf = 0.f;
-    for (const Portal& p : m_portals) {
+    for (const Portal& p : m_scene->portals) {
         const vec3 n = glm::cross(p.edge1, p.edge2);  // length: the portal's area
         const float cos_n = glm::dot(dir, n);
         if (cos_n == 0.f) continue;
@@ -72,10 +72,10 @@ float TraceableScene::portal_pdf(vec3 ref, vec3 dir) const {
 }
 
 bool TraceableScene::sample_portal(vec3 ref, float u_pick, vec2 u, vec3& wi) const {
-    if (m_portals.empty()) return false;
+    if (m_scene->portals.empty()) return false;
     size_t k = 0;
     while (k + 1 < m_portal_cdf.size() && u_pick >= m_portal_cdf[k]) ++k;
-    const Portal& p = m_portals[k];
+    const Portal& p = m_scene->portals[k];
     const vec3 to = p.corner + u.x * p.edge1 + u.y * p.edge2 - ref;
     const float len = glm::length(to);
     if (!(len > 0.f) || !std::isfinite(len)) return false;
@@ -92,29 +92,26 @@ float TraceableScene::environment_pdf_with_portals(vec3 ref, vec3 dir) const {
 bool TraceableScene::sample_environment_with_portals(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
     // The sun as before (u.x below its probability); the sky's share goes to the portals when u_select < q.
     const float p_sun = m_environment.sun_probability(), q = m_p_portal;
-    vec3 wi;
+    vec3 wi, le;
+    float pdf;
     if (u.x >= p_sun && u_select < q) {
         const vec2 up(std::min((u.x - p_sun) / (1.f - p_sun), 0x1.fffffep-1f), u.y);
         if (!sample_portal(ref, u_select / q, up, wi)) return false;
-        ls.le = m_environment.eval(wi);
+        le = m_environment.eval(wi);
+        pdf = m_p_env * environment_pdf_with_portals(ref, wi);
     } else {
         const std::optional<EnvironmentSample> es = m_environment.sample(u);
         if (!es) return false;
         wi = es->wi;
-        ls.le = es->le;
+        le = es->le;
         // A sky direction outside the sun: es->pdf is (1 - p_sun) pdf_sky, no second texel search.
-        if (u.x >= p_sun && m_environment.pdf_sun(wi) == 0.f) {
-            const float pdf = m_p_env * ((1.f - q) * es->pdf + (1.f - p_sun) * q * portal_pdf(ref, wi));
-            if (!(pdf > 0.f)) return false;
-            ls.wi = wi;
-            ls.pdf = pdf;
-            ls.dist = std::numeric_limits<float>::infinity();
-            return true;
-        }
+        pdf = u.x >= p_sun && m_environment.pdf_sun(wi) == 0.f
+                  ? m_p_env * ((1.f - q) * es->pdf + (1.f - p_sun) * q * portal_pdf(ref, wi))
+                  : m_p_env * environment_pdf_with_portals(ref, wi);
     }
-    const float pdf = m_p_env * environment_pdf_with_portals(ref, wi);
     if (!(pdf > 0.f)) return false;
     ls.wi = wi;
+    ls.le = le;
     ls.pdf = pdf;
     ls.dist = std::numeric_limits<float>::infinity();
     return true;

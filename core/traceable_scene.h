@@ -60,7 +60,6 @@ public:
     void set_environment(const EnvironmentSettings& settings);
 
     const Scene& scene() const { return *m_scene; }
-    const std::shared_ptr<const Scene>& scene_ptr() const { return m_scene; }
     const std::vector<Material>& materials() const { return m_materials; }
     const Material& material(uint32_t prim) const { return m_materials[m_scene->material_ids[prim]]; }
     const Accel& accel() const { return *m_accel; }
@@ -128,8 +127,7 @@ private:
     Environment m_environment;
     float m_p_env = 0.f;
     float m_p_portal = 0.f;
-    std::vector<Portal> m_portals;
-    std::vector<float> m_portal_cdf;  // cumulative areas / total, last 1
+    std::vector<float> m_portal_cdf;  // the scene's portals' cumulative areas / total, last 1
     float m_portal_area = 0.f;        // total
 };
 

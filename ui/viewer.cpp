@@ -143,7 +143,7 @@ bool Viewer::wait_for_work() {
     if (glfwGetWindowAttrib(window, GLFW_ICONIFIED) || fb_w == 0 || fb_h == 0) {
         if (!m_minimised) {
             m_minimised = true;
-            m_renderer->set_paused(true);
+            apply_controls(*m_renderer, m_state, m_minimised);
             m_log.line("minimised: paused");
         }
         glfwWaitEvents();
@@ -152,7 +152,7 @@ bool Viewer::wait_for_work() {
     }
     if (m_minimised) {
         m_minimised = false;
-        m_renderer->set_paused(m_state.paused);
+        apply_controls(*m_renderer, m_state, m_minimised);
         m_log.line("restored");
         m_input.any = true;
     }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <memory>
 
 #include "app/bench/raybench.h"
 #include "app/bench/series.h"
@@ -29,7 +30,10 @@ void rays_section(const BenchOptions& o, std::shared_ptr<const Scene> scene, con
         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
     std::vector<std::pair<int, double>> medians, minimal_medians;
     for (int threads : thread_counts) {
-        Renderer r(scene, threads);
+        // The probe serves the full thread count; only --scaling's 1-thread run builds a second BVH.
+        std::unique_ptr<Renderer> single;
+        if (threads != n) single = std::make_unique<Renderer>(scene, threads);
+        Renderer& r = single ? *single : probe;
         std::vector<double> fractions, minimal_fractions;
         double pt_sum = 0, ceil_sum = 0, mk_sum = 0, mk_ceil_sum = 0;
         for (int round = 0; round < o.rays_rounds; ++round) {

@@ -65,9 +65,12 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
     std::vector<std::vector<BenchSample>> by_point;
     uint32_t last_spp = 0;
     FeatureImage features;  // the camera's first-hit features, for --denoise (same for every seed)
+    AtrousDenoiser atrous;  // lays the features out once, as the viewer's filter does; each point times denoise()
+    Image atrous_image;
     if (o.denoise) {
         renderer.restart(camera, config.settings, o.common.width, o.common.height);
         features = render_features(renderer.traceable(), renderer.camera(), o.common.width, o.common.height);
+        atrous.set_features(features);
     }
     for (int seed = 0; seed < o.seeds; ++seed) {
         RenderSettings s = config.settings;
@@ -87,9 +90,9 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
             smp.rel_mse_trimmed = compare_images(mean, reference, kMetricEps, 0.001).rel_mse;
             if (o.denoise) {
                 const auto t0 = std::chrono::steady_clock::now();
-                const Image atrous = denoise_atrous(mean, renderer.film().variance_of_mean(), features);
+                atrous.denoise(mean, renderer.film().variance_of_mean(), atrous_image);
                 smp.atrous_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-                smp.rel_mse_atrous = compare_images(atrous, reference).rel_mse;
+                smp.rel_mse_atrous = compare_images(atrous_image, reference).rel_mse;
                 NforStats nfor;
                 smp.rel_mse_nfor = compare_images(denoise_nfor(renderer.film(), features, &nfor), reference).rel_mse;
                 smp.nfor_seconds = nfor.seconds;
