@@ -77,6 +77,7 @@ struct JsonReader {
 };
 
 constexpr float kBig = 1e30f;  // the CLI's upper bound of unbounded quantities
+constexpr float kMaxPortalEdge = 1e9f;
 
 // A camera object; keys it lacks keep the values of `base`.
 CameraDesc read_camera(const JsonReader& r, const json& j, const Ptr& at, CameraDesc base, bool is_bookmark) {
@@ -131,8 +132,9 @@ std::vector<Portal> read_portals(const JsonReader& r, const json& j, const Ptr& 
             if (!o.contains(key)) r.fail(pi / key, "missing; expected an array of 3 numbers");
         Portal p;
         p.corner = r.vec(o["corner"], pi / "corner", -kBig, kBig);
-        p.edge1 = r.vec(o["edge1"], pi / "edge1", -1e15f, 1e15f);
-        p.edge2 = r.vec(o["edge2"], pi / "edge2", -1e15f, 1e15f);
+        // Edges within 1e9 keep |edge1 x edge2|^2, which the portal's pdf divides by, finite in float.
+        p.edge1 = r.vec(o["edge1"], pi / "edge1", -kMaxPortalEdge, kMaxPortalEdge);
+        p.edge2 = r.vec(o["edge2"], pi / "edge2", -kMaxPortalEdge, kMaxPortalEdge);
         const float area = glm::length(glm::cross(p.edge1, p.edge2));
         if (!(area > 0.f) || !std::isfinite(area)) r.fail(pi, "degenerate portal: edge1 x edge2 has zero area");
         portals.push_back(p);

@@ -134,6 +134,16 @@ TEST(Portals, RenderAgreesWithAndWithoutPortals) {
 
 std::string cornell_dir() { return std::filesystem::path(builtin_scene_path()).parent_path().string(); }
 
+// The largest portal a scene file accepts (edges of 1e9) still has a finite, positive pdf through its middle:
+// t^2 |n| / (A |cos|) = 3^2 x 1e18 / (1e18 x 1e18).
+TEST(Portals, LargestAcceptedPortalKeepsAFinitePdf) {
+    const Portal huge{vec3(-5e8f, -5e8f, 3.f), vec3(1e9f, 0.f, 0.f), vec3(0.f, 1e9f, 0.f)};
+    const TraceableScene ts(window_room({huge}, false));
+    const float pdf = ts.portal_pdf(vec3(0.f), vec3(0.f, 0.f, 1.f));
+    EXPECT_TRUE(std::isfinite(pdf));
+    EXPECT_NEAR(pdf, 9e-18f, 9e-18f * 1e-4f);
+}
+
 TEST(Portals, SceneFileReadsPortals) {
     const Scene s = load_scene_json_text(
         R"({"obj": "cornell-box.obj", "portals": [{"corner": [1, 2, 3], "edge1": [0, 1, 0], "edge2": [0, 0, 2]}]})",
@@ -156,6 +166,8 @@ TEST(Portals, BadPortalJsonNamesFileAndKey) {
         {R"([{"corner": [0,0,0], "edge1": [0,0,0], "edge2": [0,1,0]}])", "p.json: /portals/0: degenerate portal"},
         {R"([{"corner": [0,0,0], "edge1": [1,0,0], "edge2": [0,1e300,0]}])", "p.json: /portals/0/edge2/1: expected"},
         {R"([3])", "p.json: /portals/0: expected an object"},
+        // Longer edges would overflow |edge1 x edge2|^2 in the portal's pdf (it was 0 for every direction).
+        {R"([{"corner": [0,0,0], "edge1": [1e12,0,0], "edge2": [0,1e12,0]}])", "p.json: /portals/0/edge1/0: expected"},
     };
     for (const auto& c : cases) {
         const std::string text = std::string(R"({"obj": "cornell-box.obj", "portals": )") + c.portals + "}";

@@ -63,5 +63,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         std::abort();
     for (const pv::Material& m : scene.materials)
         if (!pv::is_finite(m.emission)) std::abort();
+    for (const pv::Portal& p : scene.portals) {
+        const pv::vec3 n = glm::cross(p.edge1, p.edge2);
+        if (!pv::is_finite(p.corner) || !(glm::dot(n, n) > 0.f) || !std::isfinite(glm::dot(n, n))) std::abort();
+    }
     return 0;
 }
