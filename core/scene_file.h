@@ -8,7 +8,8 @@
 //                                                                         // or "sky": the default sky
 //     "sun": { "direction": [x,y,z], "irradiance": [r,g,b], "angular_radius": 0.27 },  // toward the sun; degrees
 //     "portals": [ { "corner": [x,y,z], "edge1": [x,y,z], "edge2": [x,y,z] } ],  // parallelograms the sky shines
-//                                                 // through (windows): light sampling aims at them (docs/portals.md)
+//                                                 // through (windows): light sampling aims at them (docs/portals.md);
+//                                                 // edges within 1e9, non-zero area
 //     "bookmarks": [ { "name": "door", "eye": [..], "target": [..], "up": [..], "fov": 40, ... } ],
 //     "two_sided_emitters": false,
 //     "materials": { "name": { "type": "diffuse|glossy|mirror|glass", "base_color": [r,g,b],
