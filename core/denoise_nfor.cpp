@@ -118,7 +118,14 @@ struct Centres {
     std::vector<float> floor;         // the centre's variance floor
 };
 
-Centres centres(int w, int h, const std::vector<vec3>& guide, const std::vector<vec3>& var_g) {
+// The feature part of a neighbour's weight, exp(-feature_distance): albedo and normal differences, relative depth.
+float feature_distance(const FeatureImage& f, size_t i, size_t j) {
+    const vec3 da = f.albedo[j] - f.albedo[i], dn = f.normal[j] - f.normal[i];
+    const float dz = (f.depth[j] - f.depth[i]) / std::max(f.depth[i], 1e-6f);
+    return glm::dot(da, da) / sqr(kAlbedoScale) + glm::dot(dn, dn) / sqr(kNormalScale) + sqr(dz / kDepthScale);
+}
+
+Centres centres(int w, int h, const FeatureImage& f, const std::vector<vec3>& guide, const std::vector<vec3>& var_g) {
     Centres c;
     c.colour.assign(guide.size(), vec3(0.f));
     c.noise = c.colour;
@@ -128,19 +135,32 @@ Centres centres(int w, int h, const std::vector<vec3>& guide, const std::vector<
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const size_t i = size_t(y) * size_t(w) + size_t(x);
-            vec3 m(0.f), v(0.f);
+            // The neighbours' colours weighted by their feature similarity (a lamp's pixels do not set the colour
+            // of the ceiling pixel beside it); their plain mean where none is similar.
+            vec3 m(0.f), v(0.f), pm(0.f), pv(0.f);
+            float ws = 0.f, ws2 = 0.f;
             int n = 0;
             for (int yy = std::max(0, y - 1); yy <= std::min(h - 1, y + 1); ++yy)
                 for (int xx = std::max(0, x - 1); xx <= std::min(w - 1, x + 1); ++xx) {
                     const size_t j = size_t(yy) * size_t(w) + size_t(xx);
                     if (j == i) continue;
-                    m += guide[j];
-                    v += var_g[j];
+                    const float wj = std::exp(-feature_distance(f, i, j));
+                    m += wj * guide[j];
+                    v += wj * wj * var_g[j];
+                    ws += wj;
+                    ws2 += wj * wj;
+                    pm += guide[j];
+                    pv += var_g[j];
                     win[n++] = (var_g[j].x + var_g[j].y + var_g[j].z) / 3.f;
                 }
             std::nth_element(win, win + n / 2, win + n);
-            c.colour[i] = m / float(n);
-            c.noise[i] = v / float(n * n);
+            if (ws > 1e-3f) {
+                c.colour[i] = m / ws;
+                c.noise[i] = v / (ws * ws);
+            } else {
+                c.colour[i] = pm / float(n);
+                c.noise[i] = pv / float(n * n);
+            }
             // The 5 x 5 floor without the centre: 25 floor = 0.25 (sum of 25) -> 0.25 (sum of 24) / 24.
             float acc = 0.f;
             int k = 0;
@@ -163,7 +183,7 @@ void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& ta
     const int w = p.w, h = p.h;
     out.assign(target.size(), vec3(0.f));
     const std::vector<float> sv = smoothed_variance(w, h, var_g), floor = variance_floor(w, h, var_g);
-    const Centres cen = centres(w, h, guide, var_g);
+    const Centres cen = centres(w, h, f, guide, var_g);
     parallel_for_range(0, h, [&](const tbb::blocked_range<int>& rows) {
         Eigen::Matrix<double, kCols, kCols> xtx;
         Eigen::Matrix<double, kCols, 3> xty;
@@ -192,8 +212,7 @@ void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& ta
                         }
                         const vec3 da = f.albedo[j] - f.albedo[i], dn = f.normal[j] - f.normal[i];
                         const float dz = (f.depth[j] - f.depth[i]) / zi;
-                        const float df = glm::dot(da, da) / sqr(kAlbedoScale) + glm::dot(dn, dn) / sqr(kNormalScale) +
-                                         sqr(dz / kDepthScale);
+                        const float df = feature_distance(f, i, j);
                         // A neighbour much noisier than this pixel (its own variance or its median, whichever is
                         // larger) is down-weighted by the variance ratio (inverse-variance weighting, capped at 1): a
                         // pixel straddling a lamp's edge has a large variance that the colour distance's variance
