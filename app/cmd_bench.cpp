@@ -16,6 +16,7 @@
 #include "app/bench/series.h"
 #include "app/commands.h"
 #include "app/progress.h"
+#include "core/error.h"
 #include "core/file_io.h"
 #include "core/renderer.h"
 #include "core/scene_file.h"
@@ -30,6 +31,11 @@ std::shared_ptr<Scene> load_bench_scene(const CommonOptions& o) {
 
 void run(BenchOptions& o) {
     resolve_switches(o.common);
+    for (uint32_t spp : o.denoise_spp)
+        if ((spp & (spp - 1)) != 0)
+            throw Error("--denoise-spp: " + std::to_string(spp) +
+                        " is not a point of the series (the points are at 1, 2, 4, 8, ... spp)");
+    if (!o.denoise_spp.empty()) o.denoise = true;
     for (const std::string* out : {&o.csv, &o.svg})
         if (!out->empty()) check_writable(*out);  // before the minutes of measuring, not after them
     o.reference_sampler = *parse_sampler(o.reference_sampler_name);
@@ -147,6 +153,11 @@ void add_bench_command(CLI::App& app) {
                   "At every point also denoise (a-trous and NFOR, with first-hit features) "
                   "and report the denoised relMSE and the filter times in their own table and the CSV (slow: use "
                   "with one --configs entry)");
+    cmd->add_option("--denoise-spp", o->denoise_spp,
+                    "Denoise only at these points (comma-separated powers of two, e.g. 16 or 16,32; implies "
+                    "--denoise): NFOR at every doubling is slow at 512x512")
+        ->delimiter(',')
+        ->check(CLI::Range(1u, 1u << 30));
     cmd->callback([o] { run(*o); });
 }
 

@@ -23,8 +23,8 @@ constexpr int kPasses = 4;
 // B-spline taps (1/4, 1/2, 1/4): the 3x3 kernel of the a-trous transform.
 constexpr float kTap[3] = {0.25f, 0.5f, 0.25f};
 // Edge-stopping parameters (SVGF, Schied et al. 2017, sec. 4.4; normal exponent 64 below): colour in standard
-// deviations, depth relative to the pixel's depth.
-constexpr float kSigmaColour = 4.f, kSigmaDepth = 0.02f;
+// deviations (the default; AtrousDenoiser's constructor takes another), depth relative to the pixel's depth.
+constexpr float kSigmaDepth = 0.02f;
 
 // The planes, in the order they are laid out.
 enum Plane {
@@ -236,7 +236,7 @@ void AtrousDenoiser::denoise(const Image& mean, const Image& variance_of_mean, I
             if (w > 1) box[w - 1] = (rs[w - 2] + rs[w - 1]) * 0.5f;
             const float inv_rows = 1.f / float(y1 - y0 + 1);
             float* is = inv_sigma + size_t(y) * size_t(w);
-            for (int x = 0; x < w; ++x) is[x] = 1.f / (kSigmaColour * std::sqrt(box[x] * inv_rows) + 1e-4f);
+            for (int x = 0; x < w; ++x) is[x] = 1.f / (m_sigma_colour * std::sqrt(box[x] * inv_rows) + 1e-4f);
         }
         for (size_t i = 0; i < n; ++i) lum[i] = 0.2126f * col[0][i] + 0.7152f * col[1][i] + 0.0722f * col[2][i];
 

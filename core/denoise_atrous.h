@@ -26,6 +26,11 @@ namespace pv {
 // Not thread-safe: one per thread.
 class AtrousDenoiser {
 public:
+    // sigma_colour: the colour (luminance) difference, in standard deviations of the noise, at which a
+    // neighbour's weight falls to about 1/e (the viewer's 4; the final denoiser also tries a wider one:
+    // core/denoise_nfor.h).
+    explicit AtrousDenoiser(float sigma_colour = 4.f) : m_sigma_colour(sigma_colour) {}
+
     // Denoises `mean` given its per-pixel variance of the mean (per channel) and the first-hit features (all the
     // same size) into `out` (resized). One core.
     void denoise(const Image& mean, const Image& variance_of_mean, const FeatureImage& features, Image& out);
@@ -38,6 +43,7 @@ public:
 private:
     float* plane(int k);
 
+    float m_sigma_colour;
     int m_w = 0, m_h = 0;
     // Planes of w*h floats: demodulation albedo (3), colour (3), variance, unit normal (3), valid (normal not 0),
     // depth, 1 / depth scale, luminance, 1 / colour sigma, and the next pass's colour (3) and variance.

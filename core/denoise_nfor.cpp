@@ -11,12 +11,17 @@
 namespace pv {
 namespace {
 
-constexpr int kRadius = 5;        // regression window 11 x 11
-constexpr int kCols = 10;         // 1, albedo (3), normal (3), depth, dx, dy
-constexpr int kSelectRadius = 3;  // the error maps are box-smoothed over 7 x 7 before the per-pixel choice
+constexpr int kRadius = 5;  // regression window 11 x 11
+constexpr int kCols = 10;   // 1, albedo (3), normal (3), depth, dx, dy
+// The error maps are box-smoothed over 17 x 17 before the per-pixel choice: at 7 x 7 the estimate's noise picked a
+// worse regression over the a-trous candidates at a tenth of the sunlit room's pixels (docs/denoise.md).
+constexpr int kSelectRadius = 8;
 // Colour bandwidths k of the NL-means-style weight exp(-max(0, d2 - (v_p + v_q)) / (k^2 (v_p + v_q))) on the
 // guiding half's colours (Rousselle et al. 2012's pixel distance with variance cancellation).
 constexpr float kBandwidths[] = {0.5f, 1.f, 2.f};
+// Colour scales of the a-trous candidates (AtrousDenoiser's sigma_colour): the viewer's 4, and wider ones that
+// average more where the colour stop of 4 standard deviations keeps noise (dim, sky-lit interiors at 16 spp).
+constexpr float kAtrousSigmas[] = {4.f, 16.f, 64.f};
 // Feature kernel scales: albedo and normal differences and relative depth at which a neighbour weighs exp(-1).
 constexpr float kAlbedoScale = 0.1f, kNormalScale = 0.3f, kDepthScale = 0.05f;
 
@@ -98,12 +103,87 @@ std::vector<float> variance_floor(int w, int h, const std::vector<vec3>& var) {
     return s;
 }
 
-// Filters `target` by weighted first-order regression; weights from `guide` (var_g).
+// What a pixel's colour weights compare its neighbours with. Cross-filtered (weights from half B for filtering
+// half A) with B's own colour at the centre, the filtered pixel still depends on B's noise at that pixel, and scored
+// against B there it looks better than it is (E|fA - B|^2 = MSE(fA) + Var(B) - 2 Cov(fA, B)), most for the
+// narrowest bandwidth: it was chosen at 82% of the sunlit room's pixels at 16 spp although the a-trous candidate
+// had 3x less error. So the centre's guide colour, its noise variance and its variance scale come from its eight
+// neighbours only (the mean of their colours, the variance of that mean, the median of their variances), and the
+// centre pixel's own weight from the features only: the filtered pixel is then independent of the guide's noise at
+// that pixel (up to the pooled variances of its neighbours, which carry both halves' samples), so that
+// E|fA - B|^2 - Var(B) = MSE(fA), and the same filter is the output (it is no worse than the guide's own centre).
+struct Centres {
+    std::vector<vec3> colour, noise;  // guide colour and the variance of its noise per channel
+    std::vector<float> scale;         // the variance the neighbours' variance is compared with (vr below)
+    std::vector<float> floor;         // the centre's variance floor
+};
+
+// The feature part of a neighbour's weight, exp(-feature_distance): albedo and normal differences, relative depth.
+float feature_distance(const FeatureImage& f, size_t i, size_t j) {
+    const vec3 da = f.albedo[j] - f.albedo[i], dn = f.normal[j] - f.normal[i];
+    const float dz = (f.depth[j] - f.depth[i]) / std::max(f.depth[i], 1e-6f);
+    return glm::dot(da, da) / sqr(kAlbedoScale) + glm::dot(dn, dn) / sqr(kNormalScale) + sqr(dz / kDepthScale);
+}
+
+Centres centres(int w, int h, const FeatureImage& f, const std::vector<vec3>& guide, const std::vector<vec3>& var_g) {
+    Centres c;
+    c.colour.assign(guide.size(), vec3(0.f));
+    c.noise = c.colour;
+    c.scale.assign(guide.size(), 0.f);
+    c.floor = c.scale;
+    float win[8];
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * size_t(w) + size_t(x);
+            // The neighbours' colours weighted by their feature similarity (a lamp's pixels do not set the colour
+            // of the ceiling pixel beside it); their plain mean where none is similar.
+            vec3 m(0.f), v(0.f), pm(0.f), pv(0.f);
+            float ws = 0.f, ws2 = 0.f;
+            int n = 0;
+            for (int yy = std::max(0, y - 1); yy <= std::min(h - 1, y + 1); ++yy)
+                for (int xx = std::max(0, x - 1); xx <= std::min(w - 1, x + 1); ++xx) {
+                    const size_t j = size_t(yy) * size_t(w) + size_t(xx);
+                    if (j == i) continue;
+                    const float wj = std::exp(-feature_distance(f, i, j));
+                    m += wj * guide[j];
+                    v += wj * wj * var_g[j];
+                    ws += wj;
+                    ws2 += wj * wj;
+                    pm += guide[j];
+                    pv += var_g[j];
+                    win[n++] = (var_g[j].x + var_g[j].y + var_g[j].z) / 3.f;
+                }
+            std::nth_element(win, win + n / 2, win + n);
+            if (ws > 1e-3f) {
+                c.colour[i] = m / ws;
+                c.noise[i] = v / (ws * ws);
+            } else {
+                c.colour[i] = pm / float(n);
+                c.noise[i] = pv / float(n * n);
+            }
+            // The 5 x 5 floor without the centre: 25 floor = 0.25 (sum of 25) -> 0.25 (sum of 24) / 24.
+            float acc = 0.f;
+            int k = 0;
+            for (int yy = std::max(0, y - 2); yy <= std::min(h - 1, y + 2); ++yy)
+                for (int xx = std::max(0, x - 2); xx <= std::min(w - 1, x + 2); ++xx) {
+                    const size_t j = size_t(yy) * size_t(w) + size_t(xx);
+                    if (j == i) continue;
+                    acc += (var_g[j].x + var_g[j].y + var_g[j].z) / 3.f;
+                    ++k;
+                }
+            c.floor[i] = 0.25f * acc / float(k);
+            c.scale[i] = std::max(win[n / 2], c.floor[i]);
+        }
+    return c;
+}
+
+// Filters `target` by weighted first-order regression; weights from `guide` (var_g), its centres as above.
 void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& target, const std::vector<vec3>& guide,
              const std::vector<vec3>& var_g, float k, std::vector<vec3>& out) {
     const int w = p.w, h = p.h;
     out.assign(target.size(), vec3(0.f));
     const std::vector<float> sv = smoothed_variance(w, h, var_g), floor = variance_floor(w, h, var_g);
+    const Centres cen = centres(w, h, f, guide, var_g);
     parallel_for_range(0, h, [&](const tbb::blocked_range<int>& rows) {
         Eigen::Matrix<double, kCols, kCols> xtx;
         Eigen::Matrix<double, kCols, 3> xty;
@@ -113,9 +193,9 @@ void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& ta
                 const size_t i = size_t(y) * size_t(w) + size_t(x);
                 xtx.setZero();
                 xty.setZero();
-                const vec3 gi = guide[i], vi = var_g[i];
+                const vec3 gi = cen.colour[i], vi = cen.noise[i];
                 const float zi = std::max(f.depth[i], 1e-6f);
-                const float v_centre = std::max({sv[i], (vi.x + vi.y + vi.z) / 3.f, floor[i]});
+                const float v_centre = cen.scale[i], floor_i = cen.floor[i];
                 for (int dy = -kRadius; dy <= kRadius; ++dy) {
                     const int yy = y + dy;
                     if (yy < 0 || yy >= h) continue;
@@ -125,21 +205,20 @@ void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& ta
                         const size_t j = size_t(yy) * size_t(w) + size_t(xx);
                         // Colour distance on the guide half, its noise cancelled (mean over channels).
                         float dc = 0.f;
-                        for (int c = 0; c < 3; ++c) {
-                            const float v = std::max(vi[c] + var_g[j][c], floor[i] + floor[j]);
+                        for (int c = 0; c < 3 && j != i; ++c) {
+                            const float v = std::max(vi[c] + var_g[j][c], floor_i + floor[j]);
                             const float d2 = sqr(gi[c] - guide[j][c]);
                             dc += std::max(0.f, d2 - v) / (k * k * v + 1e-4f);
                         }
                         const vec3 da = f.albedo[j] - f.albedo[i], dn = f.normal[j] - f.normal[i];
                         const float dz = (f.depth[j] - f.depth[i]) / zi;
-                        const float df = glm::dot(da, da) / sqr(kAlbedoScale) + glm::dot(dn, dn) / sqr(kNormalScale) +
-                                         sqr(dz / kDepthScale);
+                        const float df = feature_distance(f, i, j);
                         // A neighbour much noisier than this pixel (its own variance or its median, whichever is
                         // larger) is down-weighted by the variance ratio (inverse-variance weighting, capped at 1): a
                         // pixel straddling a lamp's edge has a large variance that the colour distance's variance
                         // cancellation would otherwise accept as "similar".
                         const float vj = std::max({sv[j], (var_g[j].x + var_g[j].y + var_g[j].z) / 3.f, floor[j]});
-                        const float vr = std::min(1.f, (v_centre + 1e-6f) / (vj + 1e-6f));
+                        const float vr = j == i ? 1.f : std::min(1.f, (v_centre + 1e-6f) / (vj + 1e-6f));
                         const double wgt = vr * std::exp(-double(dc) / 3.0 - double(df));
                         if (wgt < 1e-6) continue;
                         row << 1.0, da.x, da.y, da.z, dn.x, dn.y, dn.z, dz, dx / double(kRadius), dy / double(kRadius);
@@ -165,25 +244,56 @@ void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& ta
 }
 
 // Per-pixel MSE estimate of `filtered` (from one half) against the other half `other` (variance var_o), summed
-// over channels and box-smoothed.
+// over channels, relative to `scale` (|c|^2 + 0.01 of a colour c independent of `other`, the same for every
+// candidate), and box-smoothed.
 std::vector<float> error_map(int w, int h, const std::vector<vec3>& filtered, const std::vector<vec3>& other,
-                             const std::vector<vec3>& var_o) {
+                             const std::vector<vec3>& var_o, const std::vector<float>& scale) {
     std::vector<float> e(filtered.size()), s(filtered.size());
     for (size_t i = 0; i < e.size(); ++i) {
         const vec3 d = filtered[i] - other[i];
-        const vec3 m = 0.5f * (filtered[i] + other[i]);  // demodulated: the relative error of the colour
-        e[i] = (glm::dot(d, d) - (var_o[i].x + var_o[i].y + var_o[i].z)) / (glm::dot(m, m) + 0.01f);
+        e[i] = (glm::dot(d, d) - (var_o[i].x + var_o[i].y + var_o[i].z)) / scale[i];
     }
+    // Box mean, separable: rows into `s`, then columns back into `e` (double sums: 17 x 17 of mixed signs).
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            float acc = 0.f;
-            int n = 0;
-            for (int yy = std::max(0, y - kSelectRadius); yy <= std::min(h - 1, y + kSelectRadius); ++yy)
-                for (int xx = std::max(0, x - kSelectRadius); xx <= std::min(w - 1, x + kSelectRadius); ++xx, ++n)
-                    acc += e[size_t(yy) * size_t(w) + size_t(xx)];
-            s[size_t(y) * size_t(w) + size_t(x)] = acc / float(n);
+            double acc = 0.0;
+            const int x0 = std::max(0, x - kSelectRadius), x1 = std::min(w - 1, x + kSelectRadius);
+            for (int xx = x0; xx <= x1; ++xx) acc += e[size_t(y) * size_t(w) + size_t(xx)];
+            s[size_t(y) * size_t(w) + size_t(x)] = float(acc / (x1 - x0 + 1));
         }
-    return s;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            double acc = 0.0;
+            const int y0 = std::max(0, y - kSelectRadius), y1 = std::min(h - 1, y + kSelectRadius);
+            for (int yy = y0; yy <= y1; ++yy) acc += s[size_t(yy) * size_t(w) + size_t(x)];
+            e[size_t(y) * size_t(w) + size_t(x)] = float(acc / (y1 - y0 + 1));
+        }
+    return e;
+}
+
+// The a-trous filter (core/denoise_atrous.h) of each half, guided by that half's own colours and variance.
+void atrous_halves(const Planes& p, const FeatureImage& features, float sigma, std::vector<vec3>& fa,
+                   std::vector<vec3>& fb) {
+    const int w = p.w, h = p.h;
+    const size_t n = size_t(w) * size_t(h);
+    AtrousDenoiser atrous(sigma);
+    atrous.set_features(features);
+    Image mean(w, h), var(w, h), filtered;
+    for (int half = 0; half < 2; ++half) {
+        const std::vector<vec3>&m = half == 0 ? p.a : p.b, &v = half == 0 ? p.var_a : p.var_b;
+        for (size_t i = 0; i < n; ++i) {
+            const vec3 d = demodulation(features, i);
+            for (int c = 0; c < 3; ++c) {
+                mean.rgb[i * 3 + size_t(c)] = m[i][c] * d[c];
+                var.rgb[i * 3 + size_t(c)] = v[i][c] * d[c] * d[c];
+            }
+        }
+        atrous.denoise(mean, var, filtered);
+        std::vector<vec3>& f = half == 0 ? fa : fb;
+        f.resize(n);
+        for (size_t i = 0; i < n; ++i)
+            f[i] = filtered.at(int(i % size_t(w)), int(i / size_t(w))) / demodulation(features, i);
+    }
 }
 
 }  // namespace
@@ -193,50 +303,50 @@ Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* st
     const Planes p = halves(film, features);
     const int w = p.w, h = p.h;
     const size_t n = size_t(w) * size_t(h);
-    constexpr int kK = int(std::size(kBandwidths));
+    constexpr int kK = int(std::size(kBandwidths)), kT = int(std::size(kAtrousSigmas));
     std::vector<vec3> best(n, vec3(0.f));
     std::vector<float> best_err(n, std::numeric_limits<float>::infinity());
-    std::vector<int> chosen(kK + 1, 0), choice(n, 0);
-    std::vector<vec3> fa, fb;
-    auto keep_better = [&](int k) {
-        const std::vector<float> ea = error_map(w, h, fa, p.b, p.var_b), eb = error_map(w, h, fb, p.a, p.var_a);
+    std::vector<int> chosen(kK + kT, 0), choice(n, 0);
+    // The first a-trous candidate's filtered halves (each independent of the other half) give the error maps'
+    // relative scale, the same for every candidate (a scale from the compared half, as before, let a noisy bright
+    // pixel of that half shrink its own error term).
+    std::vector<vec3> ta, tb;
+    atrous_halves(p, features, kAtrousSigmas[0], ta, tb);
+    std::vector<float> scale_a(n), scale_b(n);
+    for (size_t i = 0; i < n; ++i) {
+        scale_a[i] = glm::dot(ta[i], ta[i]) + 0.01f;
+        scale_b[i] = glm::dot(tb[i], tb[i]) + 0.01f;
+    }
+    // Candidate k: filtered halves fa, fb scored against the other half; its output is `result`.
+    auto keep_better = [&](int k, const std::vector<vec3>& fa, const std::vector<vec3>& fb, auto result) {
+        const std::vector<float> ea = error_map(w, h, fa, p.b, p.var_b, scale_a),
+                                 eb = error_map(w, h, fb, p.a, p.var_a, scale_b);
         for (size_t i = 0; i < n; ++i) {
             const float e = ea[i] + eb[i];
             if (e < best_err[i]) {
                 best_err[i] = e;
-                best[i] = 0.5f * (fa[i] + fb[i]);
+                best[i] = result(i);
                 choice[i] = k;
             }
         }
     };
+    std::vector<vec3> fa, fb;
     for (int k = 0; k < kK; ++k) {
         regress(p, features, p.a, p.b, p.var_b, kBandwidths[k], fa);  // half A, weights from B
         regress(p, features, p.b, p.a, p.var_a, kBandwidths[k], fb);  // half B, weights from A
-        keep_better(k);
+        keep_better(k, fa, fb, [&](size_t i) { return 0.5f * (fa[i] + fb[i]); });
     }
-    {
-        // One more candidate: the interactive a-trous filter (core/denoise_atrous.h) of each half, guided by that
-        // half's own colours and variance, so it is independent of the other half and its error estimate is
-        // unbiased. Its 31 x 31 footprint wins where the 11 x 11 regression window cannot average enough: dim,
-        // sky-lit interiors at 16 spp (Sponza: 5.0e-3 -> 3.5e-3, docs/denoise.md).
-        AtrousDenoiser atrous;
-        atrous.set_features(features);
-        Image mean(w, h), var(w, h), filtered;
-        for (int half = 0; half < 2; ++half) {
-            const std::vector<vec3>&m = half == 0 ? p.a : p.b, &v = half == 0 ? p.var_a : p.var_b;
-            for (size_t i = 0; i < n; ++i) {
-                const vec3 d = demodulation(features, i);
-                for (int c = 0; c < 3; ++c) {
-                    mean.rgb[i * 3 + size_t(c)] = m[i][c] * d[c];
-                    var.rgb[i * 3 + size_t(c)] = v[i][c] * d[c] * d[c];
-                }
-            }
-            atrous.denoise(mean, var, filtered);
-            std::vector<vec3>& f = half == 0 ? fa : fb;
-            for (size_t i = 0; i < n; ++i)
-                f[i] = filtered.at(int(i % size_t(w)), int(i / size_t(w))) / demodulation(features, i);
-        }
-        keep_better(kK);
+    // The a-trous candidates, scored by their filtered halves; the output is the filter of the full mean (half the
+    // variance of either half's).
+    const Image mean = film.mean(), var = film.variance_of_mean();
+    for (int t = 0; t < kT; ++t) {
+        if (t > 0) atrous_halves(p, features, kAtrousSigmas[t], ta, tb);
+        AtrousDenoiser atrous(kAtrousSigmas[t]);
+        Image full;
+        atrous.denoise(mean, var, features, full);
+        keep_better(kK + t, ta, tb, [&](size_t i) {
+            return full.at(int(i % size_t(w)), int(i / size_t(w))) / demodulation(features, i);
+        });
     }
     Image out = film.mean();
     for (int y = 0, i = 0; y < h; ++y)
@@ -248,7 +358,7 @@ Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* st
         }
     if (stats) {
         stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        stats->bandwidths = kK + 1;
+        stats->bandwidths = kK + kT;
         stats->chosen = chosen;
     }
     return out;

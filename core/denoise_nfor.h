@@ -2,13 +2,13 @@
 // Regression for Denoising Monte Carlo Renderings" (NFOR). Each pixel's colour is a weighted first-order
 // regression on the first-hit features (albedo, shading normal, depth) and the screen offset over a window. The
 // two half buffers (even/odd samples, independent: core/sampler.h) are filtered crosswise: half A is regressed with
-// weights computed from half B's colours and vice versa, so a weight never sees the noise it averages. Candidates:
-// three colour bandwidths, and the a-trous filter (core/denoise_atrous.h) of each half; per pixel the one whose
-// filtered half is closest to the OTHER half (an MSE estimate once that half's variance is subtracted), after
-// smoothing the error map, is kept. Output: the mean of the two filtered halves. Linear RGB in, linear RGB out.
-// Known limit (docs/denoise.md): for the regression candidates the estimate runs low, because half A's filter
-// weights come from half B, the half it is compared with; the narrowest bandwidth is then chosen too often (88% of
-// the pixels of the sunlit room at 16 spp) and the a-trous candidate too rarely.
+// weights computed from half B's colours and vice versa, so a weight never sees the noise it averages; the centre
+// pixel's own guide colour is taken from its eight neighbours, so the filtered pixel does not see the other half's
+// noise there either. Candidates: three colour bandwidths, and the a-trous filter (core/denoise_atrous.h) at three
+// colour scales, each half guided by itself. Per pixel the candidate whose filtered halves are closest to the OTHER
+// half (an unbiased MSE estimate once that half's variance is subtracted; docs/denoise.md), after smoothing the
+// error maps over 17 x 17, is kept: the mean of its filtered halves (regression) or its filter of the full mean
+// (a-trous). Linear RGB in, linear RGB out.
 #pragma once
 
 #include "core/aov.h"
@@ -18,7 +18,7 @@ namespace pv {
 
 struct NforStats {
     double seconds = 0.0;
-    int bandwidths = 0;       // candidates: the colour bandwidths, then the a-trous filter
+    int bandwidths = 0;       // candidates: the regression's colour bandwidths, then the a-trous colour scales
     std::vector<int> chosen;  // pixels per candidate
 };
 

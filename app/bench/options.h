@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "app/commands.h"
 
@@ -26,7 +27,8 @@ struct BenchOptions {
     int rays_rounds = 3;
     std::string clock = "cpu";  // process CPU seconds / threads, or "wall"
     bool quiet = false;
-    bool denoise = false;  // denoised columns: a-trous and NFOR at every point
+    bool denoise = false;               // denoised columns: a-trous and NFOR at every point
+    std::vector<uint32_t> denoise_spp;  // --denoise-spp: only at these points (implies denoise)
 };
 
 }  // namespace pv::app

@@ -88,7 +88,8 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
             const Image mean = renderer.film().mean();
             smp.error = compare_images(mean, reference);
             smp.rel_mse_trimmed = compare_images(mean, reference, kMetricEps, 0.001).rel_mse;
-            if (o.denoise) {
+            if (o.denoise && (o.denoise_spp.empty() ||
+                              std::find(o.denoise_spp.begin(), o.denoise_spp.end(), st.spp) != o.denoise_spp.end())) {
                 const auto t0 = std::chrono::steady_clock::now();
                 atrous.denoise(mean, renderer.film().variance_of_mean(), atrous_image);
                 smp.atrous_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
