@@ -1,8 +1,7 @@
-// core/camera.cpp: pinhole and thin-lens ray generation.
+// core/camera.cpp: the camera basis from its description (generate() is inline in camera.h).
 #include "core/camera.h"
 
 #include "core/error.h"
-#include "core/warp.h"
 
 namespace pv {
 
@@ -19,24 +18,6 @@ Camera::Camera(const CameraDesc& desc, int width, int height) : m_desc(desc), m_
     m_tan_half = std::tan(0.5f * glm::radians(desc.vfov_deg));
     m_aspect = static_cast<float>(width) / static_cast<float>(height);
     m_focus = desc.focus_distance > 0.f ? desc.focus_distance : glm::length(fwd);
-}
-
-Ray Camera::generate(vec2 film, vec2 u_lens) const {
-    const float sx = (2.f * film.x / static_cast<float>(m_width) - 1.f) * m_tan_half * m_aspect;
-    const float sy = (1.f - 2.f * film.y / static_cast<float>(m_height)) * m_tan_half;
-    vec3 dir = m_forward + sx * m_right + sy * m_up;
-    Ray r;
-    if (m_desc.aperture > 0.f) {
-        // Thin lens: every ray through the lens point meets the pinhole ray on the plane of focus.
-        const vec3 focus_point = m_desc.eye + dir * m_focus;
-        const vec2 lens = m_desc.aperture * square_to_disk_concentric(u_lens);
-        r.o = m_desc.eye + lens.x * m_right + lens.y * m_up;
-        r.d = glm::normalize(focus_point - r.o);
-    } else {
-        r.o = m_desc.eye;
-        r.d = glm::normalize(dir);
-    }
-    return r;
 }
 
 }  // namespace pv

@@ -88,6 +88,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) {
                         if (active && !active[size_t(y) * size_t(w) + size_t(x)]) continue;
+                        m_film.prefetch(x, y);
                         const Ray ray = camera_ray(m_camera, sampler, x, y, index);
                         const vec3 L = trace_path(ts, m_settings, ray, sampler, tt.counters);
                         if (!m_film.add(x, y, index, L)) tt.dropped++;
