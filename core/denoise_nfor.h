@@ -18,7 +18,7 @@ namespace pv {
 
 struct NforStats {
     double seconds = 0.0;
-    int bandwidths = 0;       // candidates: the regression's colour bandwidths, then the a-trous colour scales
+    int bandwidths = 0;       // candidates: the regression's colour bandwidths, then the a-trous edge stops
     std::vector<int> chosen;  // pixels per candidate
 };
 
