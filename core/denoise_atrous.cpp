@@ -23,8 +23,7 @@ constexpr int kPasses = 4;
 // B-spline taps (1/4, 1/2, 1/4): the 3x3 kernel of the a-trous transform.
 constexpr float kTap[3] = {0.25f, 0.5f, 0.25f};
 // Edge-stopping parameters (SVGF, Schied et al. 2017, sec. 4.4; normal exponent 64 below): colour in standard
-// deviations (the default; AtrousDenoiser's constructor takes another), depth relative to the pixel's depth.
-constexpr float kSigmaDepth = 0.02f;
+// deviations, depth relative to the pixel's depth; AtrousDenoiser's constructor takes them (defaults 4 and 0.02).
 
 // The planes, in the order they are laid out.
 enum Plane {
@@ -183,7 +182,7 @@ void AtrousDenoiser::set_features(const FeatureImage& f) {
         const float inv_l = l2 > 0.f ? 1.f / std::sqrt(l2) : 0.f;
         for (int c = 0; c < 3; ++c) nrm[c][i] *= inv_l;
         valid[i] = l2 > 0.f ? 1.f : 0.f;
-        inv_dz[i] = 1.f / (kSigmaDepth * std::max(z[i], 1e-6f));
+        inv_dz[i] = 1.f / (m_sigma_depth * std::max(z[i], 1e-6f));
     }
 }
 

@@ -27,9 +27,11 @@ namespace pv {
 class AtrousDenoiser {
 public:
     // sigma_colour: the colour (luminance) difference, in standard deviations of the noise, at which a
-    // neighbour's weight falls to about 1/e (the viewer's 4; the final denoiser also tries a wider one:
-    // core/denoise_nfor.h).
-    explicit AtrousDenoiser(float sigma_colour = 4.f) : m_sigma_colour(sigma_colour) {}
+    // neighbour's weight falls to about 1/e; sigma_depth: the same for the depth difference relative to the pixel's
+    // depth, per unit of the pass's stride. The viewer's filter keeps the defaults; the final denoiser also tries
+    // wider ones (core/denoise_nfor.h).
+    explicit AtrousDenoiser(float sigma_colour = 4.f, float sigma_depth = 0.02f)
+        : m_sigma_colour(sigma_colour), m_sigma_depth(sigma_depth) {}
 
     // Denoises `mean` given its per-pixel variance of the mean (per channel) and the first-hit features (all the
     // same size) into `out` (resized). One core.
@@ -43,7 +45,7 @@ public:
 private:
     float* plane(int k);
 
-    float m_sigma_colour;
+    float m_sigma_colour, m_sigma_depth;
     int m_w = 0, m_h = 0;
     // Planes of w*h floats: demodulation albedo (3), colour (3), variance, unit normal (3), valid (normal not 0),
     // depth, 1 / depth scale, luminance, 1 / colour sigma, and the next pass's colour (3) and variance.

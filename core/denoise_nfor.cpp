@@ -19,9 +19,13 @@ constexpr int kSelectRadius = 8;
 // Colour bandwidths k of the NL-means-style weight exp(-max(0, d2 - (v_p + v_q)) / (k^2 (v_p + v_q))) on the
 // guiding half's colours (Rousselle et al. 2012's pixel distance with variance cancellation).
 constexpr float kBandwidths[] = {0.5f, 1.f, 2.f};
-// Colour scales of the a-trous candidates (AtrousDenoiser's sigma_colour): the viewer's 4, and wider ones that
-// average more where the colour stop of 4 standard deviations keeps noise (dim, sky-lit interiors at 16 spp).
-constexpr float kAtrousSigmas[] = {4.f, 16.f, 64.f};
+// The a-trous candidates' edge stops (AtrousDenoiser's sigma_colour, sigma_depth): the viewer's (4, 0.02), wider
+// colour stops that average more where 4 standard deviations keep noise (dim, sky-lit interiors at 16 spp), and
+// none but the normals' (the arches' edges of Sponza, whose pixels' averaged first-hit depths match neither side).
+struct AtrousStops {
+    float colour, depth;
+};
+constexpr AtrousStops kAtrousStops[] = {{4.f, 0.02f}, {16.f, 0.02f}, {64.f, 0.02f}, {1e6f, 1e6f}};
 // Feature kernel scales: albedo and normal differences and relative depth at which a neighbour weighs exp(-1).
 constexpr float kAlbedoScale = 0.1f, kNormalScale = 0.3f, kDepthScale = 0.05f;
 
@@ -272,11 +276,11 @@ std::vector<float> error_map(int w, int h, const std::vector<vec3>& filtered, co
 }
 
 // The a-trous filter (core/denoise_atrous.h) of each half, guided by that half's own colours and variance.
-void atrous_halves(const Planes& p, const FeatureImage& features, float sigma, std::vector<vec3>& fa,
+void atrous_halves(const Planes& p, const FeatureImage& features, AtrousStops stops, std::vector<vec3>& fa,
                    std::vector<vec3>& fb) {
     const int w = p.w, h = p.h;
     const size_t n = size_t(w) * size_t(h);
-    AtrousDenoiser atrous(sigma);
+    AtrousDenoiser atrous(stops.colour, stops.depth);
     atrous.set_features(features);
     Image mean(w, h), var(w, h), filtered;
     for (int half = 0; half < 2; ++half) {
@@ -303,7 +307,7 @@ Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* st
     const Planes p = halves(film, features);
     const int w = p.w, h = p.h;
     const size_t n = size_t(w) * size_t(h);
-    constexpr int kK = int(std::size(kBandwidths)), kT = int(std::size(kAtrousSigmas));
+    constexpr int kK = int(std::size(kBandwidths)), kT = int(std::size(kAtrousStops));
     std::vector<vec3> best(n, vec3(0.f));
     std::vector<float> best_err(n, std::numeric_limits<float>::infinity());
     std::vector<int> chosen(kK + kT, 0), choice(n, 0);
@@ -311,7 +315,7 @@ Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* st
     // relative scale, the same for every candidate (a scale from the compared half, as before, let a noisy bright
     // pixel of that half shrink its own error term).
     std::vector<vec3> ta, tb;
-    atrous_halves(p, features, kAtrousSigmas[0], ta, tb);
+    atrous_halves(p, features, kAtrousStops[0], ta, tb);
     std::vector<float> scale_a(n), scale_b(n);
     for (size_t i = 0; i < n; ++i) {
         scale_a[i] = glm::dot(ta[i], ta[i]) + 0.01f;
@@ -340,8 +344,8 @@ Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* st
     // variance of either half's).
     const Image mean = film.mean(), var = film.variance_of_mean();
     for (int t = 0; t < kT; ++t) {
-        if (t > 0) atrous_halves(p, features, kAtrousSigmas[t], ta, tb);
-        AtrousDenoiser atrous(kAtrousSigmas[t]);
+        if (t > 0) atrous_halves(p, features, kAtrousStops[t], ta, tb);
+        AtrousDenoiser atrous(kAtrousStops[t].colour, kAtrousStops[t].depth);
         Image full;
         atrous.denoise(mean, var, features, full);
         keep_better(kK + t, ta, tb, [&](size_t i) {

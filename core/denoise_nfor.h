@@ -4,11 +4,11 @@
 // two half buffers (even/odd samples, independent: core/sampler.h) are filtered crosswise: half A is regressed with
 // weights computed from half B's colours and vice versa, so a weight never sees the noise it averages; the centre
 // pixel's own guide colour is taken from its eight neighbours, so the filtered pixel does not see the other half's
-// noise there either. Candidates: three colour bandwidths, and the a-trous filter (core/denoise_atrous.h) at three
-// colour scales, each half guided by itself. Per pixel the candidate whose filtered halves are closest to the OTHER
-// half (an unbiased MSE estimate once that half's variance is subtracted; docs/denoise.md), after smoothing the
-// error maps over 17 x 17, is kept: the mean of its filtered halves (regression) or its filter of the full mean
-// (a-trous). Linear RGB in, linear RGB out.
+// noise there either. Candidates: three colour bandwidths, and the a-trous filter (core/denoise_atrous.h) with
+// four edge stops (from the viewer's to the normals' only), each half guided by itself. Per pixel the candidate whose
+// filtered halves are closest to the OTHER half (an unbiased MSE estimate once that half's variance is subtracted;
+// docs/denoise.md), after smoothing the error maps over 17 x 17, is kept: the mean of its filtered halves (regression)
+// or its filter of the full mean (a-trous). Linear RGB in, linear RGB out.
 #pragma once
 
 #include "core/aov.h"
@@ -18,7 +18,7 @@ namespace pv {
 
 struct NforStats {
     double seconds = 0.0;
-    int bandwidths = 0;       // candidates: the regression's colour bandwidths, then the a-trous colour scales
+    int bandwidths = 0;       // candidates: the regression's colour bandwidths, then the a-trous edge stops
     std::vector<int> chosen;  // pixels per candidate
 };
 

@@ -240,6 +240,23 @@ TEST(BadInputCli, UnwritableOutputExitsNonZeroWithOneLine) {
     fs::remove_all(as_dir);
 }
 
+// bench --denoise-spp takes points of the series only (powers of two); another value is one line, before the
+// reference is rendered.
+TEST(BadInputCli, BenchDenoiseSppMustBeAPointOfTheSeries) {
+    const fs::path ref = fs::temp_directory_path() / ("pathview_cli_ref1_" + std::to_string(::getpid()) + ".exr");
+    std::error_code ec;
+    fs::remove(ref, ec);
+    const RunResult r = run_pathview(
+        "bench --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind --seeds 1 --max-spp 16 -q --csv '' "
+        "--svg '' --denoise-spp 16,12 --save-reference '" +
+        ref.string() + "'");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find("--denoise-spp: 12"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(ref)) << "the reference was rendered before --denoise-spp was checked";
+    fs::remove(ref, ec);
+}
+
 // render, view and bench set a scene up through one function (issue 10, item 6): bench applies --environment and
 // --sun as render does. A scene without emitters gets the default sky; --environment 0 makes it black everywhere,
 // --sun then lights it. Before, bench ignored both (its reference was lit by the default sky).

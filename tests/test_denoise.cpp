@@ -10,6 +10,7 @@
 //    lower the relMSE at least 3x and keep the edge by the same criterion; a denoiser kept across frames gives
 //    what fresh calls give; pixels where nothing was hit pass through and do not bleed.
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
 
@@ -177,6 +178,16 @@ TEST(DenoiseNfor, ChoosesHonestlyOnHeavyTailedNoise) {
         EXPECT_LT(stats.chosen[0], w * h / 2)
             << "hit " << hit << ": the narrowest bandwidth chosen at " << stats.chosen[0] << " pixels";
     }
+}
+
+// NFOR's rows run in parallel (TBB), each pixel from its own window only: the same image bit for bit on 1 and on
+// 4 threads.
+TEST(DenoiseNfor, SameOutputForAnyThreadCount) {
+    const Film film = noisy_step_film(16);
+    Image one, four;
+    tbb::task_arena(1).execute([&] { one = denoise_nfor(film, step_features()); });
+    tbb::task_arena(4).execute([&] { four = denoise_nfor(film, step_features()); });
+    EXPECT_EQ(one.rgb, four.rgb);
 }
 
 TEST(DenoiseNfor, PassesThroughSparsePixels) {
