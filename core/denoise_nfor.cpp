@@ -142,7 +142,7 @@ Centres centres(int w, int h, const FeatureImage& f, const std::vector<vec3>& gu
             // The neighbours' colours weighted by their feature similarity (a lamp's pixels do not set the colour
             // of the ceiling pixel beside it); their plain mean where none is similar.
             vec3 m(0.f), v(0.f), pm(0.f), pv(0.f);
-            float ws = 0.f, ws2 = 0.f;
+            float ws = 0.f;
             int n = 0;
             for (int yy = std::max(0, y - 1); yy <= std::min(h - 1, y + 1); ++yy)
                 for (int xx = std::max(0, x - 1); xx <= std::min(w - 1, x + 1); ++xx) {
@@ -152,7 +152,6 @@ Centres centres(int w, int h, const FeatureImage& f, const std::vector<vec3>& gu
                     m += wj * guide[j];
                     v += wj * wj * var_g[j];
                     ws += wj;
-                    ws2 += wj * wj;
                     pm += guide[j];
                     pv += var_g[j];
                     win[n++] = (var_g[j].x + var_g[j].y + var_g[j].z) / 3.f;
