@@ -36,22 +36,25 @@ struct SurfacePoint {
     sp.b0 = 1.f - hit.u - hit.v;
     sp.p = sp.b0 * p0 + hit.u * p1 + hit.v * p2;
     sp.p_error = barycentric_error(p0, p1, p2, sp.b0, hit.u, hit.v);
-    // The normals are built in locals and stored once each: copying sp.ng into sp.ns through memory read the
-    // three 4-byte stores back as one 8-byte load, which waits for them (a store-forwarding stall per vertex).
+    // Both normals are stored from the registers that computed the geometric one: copying sp.ng into sp.ns (or a
+    // local into both) went through memory, three 4-byte stores read back by one 8-byte load that waits for them
+    // (a store-forwarding stall per vertex).
     const vec3 ng = safe_normalize(glm::cross(p1 - p0, p2 - p0));
-    vec3 ns = ng;
+    const float nx = ng.x, ny = ng.y, nz = ng.z;  // read one float at a time
+    sp.ng = vec3(nx, ny, nz);
+    sp.ns = vec3(nx, ny, nz);
     if (!s.normal_indices.empty()) {
         const uvec3 ni = s.normal_indices[hit.prim];
         if (ni.x != kNoIndex) {
             const vec3 n = sp.b0 * s.normals[ni.x] + hit.u * s.normals[ni.y] + hit.v * s.normals[ni.z];
             const float l2 = glm::dot(n, n);
             // A zero or NaN interpolated normal falls back to the geometric one (pbrt-v4, Triangle).
+            vec3 ns = ng;
             if (l2 > 1e-12f && std::isfinite(l2)) ns = n / std::sqrt(l2);
             if (glm::dot(ns, ng) < 0.f) ns = -ns;
+            sp.ns = ns;
         }
     }
-    sp.ng = ng;
-    sp.ns = ns;
     return sp;
 }
 
