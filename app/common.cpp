@@ -1,16 +1,15 @@
 // app/common.cpp: options shared by the subcommands that render.
-#include <sched.h>
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <thread>
 
 #include "app/commands.h"
 #include "core/error.h"
 #include "core/film.h"
 #include "core/image_io.h"
+#include "core/parallel.h"
 #include "core/scene_file.h"
 
 namespace pv::app {
@@ -117,7 +116,7 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
     cmd.add_option("scene", o.scene, "Scene: a .json scene file or an .obj (default: the built-in Cornell box)");
     cmd.add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
     cmd.add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-    cmd.add_option("--threads", o.threads, "Render threads (0: all cores; at most the cores this process may use)")
+    cmd.add_option("--threads", o.threads, "Render threads (0: every core this process may use; at most that many)")
         ->check(CLI::Range(0, 1024))
         ->capture_default_str();
     cmd.add_option("--seed", o.settings.seed, "Random seed (the image depends only on it, not on threads)")
@@ -188,10 +187,8 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
 
 void resolve_switches(CommonOptions& o) {
     // TBB runs at most as many threads as the cores this process may use, whatever the arena asks for: report that.
-    cpu_set_t cpus;
-    const int usable =
-        sched_getaffinity(0, sizeof cpus, &cpus) == 0 ? CPU_COUNT(&cpus) : int(std::thread::hardware_concurrency());
-    if (usable > 0 && o.threads > usable) {
+    const int usable = usable_cores();
+    if (o.threads > usable) {
         std::fprintf(stderr, "pathview: note: --threads %d: %d cores can be used here; rendering with %d threads\n",
                      o.threads, usable, usable);
         o.threads = usable;

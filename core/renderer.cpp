@@ -8,9 +8,9 @@
 
 #include <chrono>
 #include <cstdio>
-#include <thread>
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "core/tsan.h"
 
 namespace pv {
@@ -30,7 +30,7 @@ struct Renderer::Pool {
 };
 
 Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads, const std::function<void(double)>& build_progress) {
-    m_threads = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    m_threads = threads > 0 ? threads : usable_cores();
     m_pool = std::make_unique<Pool>(m_threads);
     m_pool->arena.execute([&] { m_traceable = std::make_unique<TraceableScene>(std::move(scene), build_progress); });
     m_camera = Camera(m_traceable->scene().camera, 64, 64);

@@ -8,9 +8,9 @@
 
 #include <atomic>
 #include <chrono>
-#include <thread>
 #include <vector>
 
+#include "core/parallel.h"
 #include "core/rng.h"
 #include "core/surface.h"
 #include "core/warp.h"
@@ -139,7 +139,7 @@ double time_rays(tbb::task_arena& arena, int threads, bool cpu_clock, const std:
 
 RayRates measure_ray_rates(const TraceableScene& ts, const Camera& camera, const RayBenchOptions& o) {
     const RaySets sets = make_rays(ts, camera, o);
-    const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = o.threads > 0 ? o.threads : usable_cores();
     tbb::task_arena arena(threads);
     auto closest = [&](const Ray& r) -> uint64_t {
         Hit h;
@@ -156,7 +156,7 @@ RayRates measure_ray_rates(const TraceableScene& ts, const Camera& camera, const
 }
 
 MinimalKernelRate measure_minimal_kernel(const TraceableScene& ts, const Camera& camera, const RayBenchOptions& o) {
-    const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const int threads = o.threads > 0 ? o.threads : usable_cores();
     tbb::task_arena arena(threads);
     struct alignas(64) Row {
         uint64_t camera = 0, bounce = 0, shadow = 0;
