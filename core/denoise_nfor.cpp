@@ -274,13 +274,12 @@ std::vector<float> error_map(int w, int h, const std::vector<vec3>& filtered, co
     return e;
 }
 
-// The a-trous filter (core/denoise_atrous.h) of each half, guided by that half's own colours and variance.
-void atrous_halves(const Planes& p, const FeatureImage& features, AtrousStops stops, std::vector<vec3>& fa,
+// The a-trous filter (core/denoise_atrous.h) of each half, guided by that half's own colours and variance;
+// `atrous` has the features set.
+void atrous_halves(const Planes& p, const FeatureImage& features, AtrousDenoiser& atrous, std::vector<vec3>& fa,
                    std::vector<vec3>& fb) {
     const int w = p.w, h = p.h;
     const size_t n = size_t(w) * size_t(h);
-    AtrousDenoiser atrous(stops.colour, stops.depth);
-    atrous.set_features(features);
     Image mean(w, h), var(w, h), filtered;
     for (int half = 0; half < 2; ++half) {
         const std::vector<vec3>&m = half == 0 ? p.a : p.b, &v = half == 0 ? p.var_a : p.var_b;
@@ -313,8 +312,10 @@ Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* st
     // The first a-trous candidate's filtered halves (each independent of the other half) give the error maps'
     // relative scale, the same for every candidate (a scale from the compared half, as before, let a noisy bright
     // pixel of that half shrink its own error term).
+    AtrousDenoiser atrous(kAtrousStops[0].colour, kAtrousStops[0].depth);
+    atrous.set_features(features);
     std::vector<vec3> ta, tb;
-    atrous_halves(p, features, kAtrousStops[0], ta, tb);
+    atrous_halves(p, features, atrous, ta, tb);
     std::vector<float> scale_a(n), scale_b(n);
     for (size_t i = 0; i < n; ++i) {
         scale_a[i] = glm::dot(ta[i], ta[i]) + 0.01f;
@@ -339,19 +340,22 @@ Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* st
         regress(p, features, p.b, p.a, p.var_a, kBandwidths[k], fb);  // half B, weights from A
         keep_better(k, fa, fb, [&](size_t i) { return 0.5f * (fa[i] + fb[i]); });
     }
-    // The a-trous candidates, scored by their filtered halves; the output is the filter of the full mean (half the
-    // variance of either half's).
+    // The a-trous candidates, scored by their filtered halves; the output is the same filter (its features laid out
+    // once) of the full mean (half the variance of either half's).
     const Image mean = film.mean(), var = film.variance_of_mean();
+    Image full;
     for (int t = 0; t < kT; ++t) {
-        if (t > 0) atrous_halves(p, features, kAtrousStops[t], ta, tb);
-        AtrousDenoiser atrous(kAtrousStops[t].colour, kAtrousStops[t].depth);
-        Image full;
-        atrous.denoise(mean, var, features, full);
+        if (t > 0) {
+            atrous = AtrousDenoiser(kAtrousStops[t].colour, kAtrousStops[t].depth);
+            atrous.set_features(features);
+            atrous_halves(p, features, atrous, ta, tb);
+        }
+        atrous.denoise(mean, var, full);
         keep_better(kK + t, ta, tb, [&](size_t i) {
             return full.at(int(i % size_t(w)), int(i / size_t(w))) / demodulation(features, i);
         });
     }
-    Image out = film.mean();
+    Image out = mean;
     for (int y = 0, i = 0; y < h; ++y)
         for (int x = 0; x < w; ++x, ++i) {
             const FilmPixel& px = film.pixel(x, y);
