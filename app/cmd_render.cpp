@@ -278,6 +278,8 @@ void run(RenderOptions& o) {
         double(st.rays + st.shadow_rays) / double(std::max<uint64_t>(st.paths, 1)),
         static_cast<unsigned long long>(st.dropped), renderer.threads(),
         renderer.settings_as_rendered().describe().c_str(), written.c_str());
+    if (st.guide_seconds > 0.0)
+        std::printf("pathview: sky guide trained in %.3f s (part of the first pass)\n", st.guide_seconds);
     if (renderer.adaptive_settings().enabled())
         std::printf(
             "pathview: noise threshold %g: %.1f%% of pixels still active, %.1f samples per pixel on average%s\n",

@@ -77,8 +77,9 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
         m_guide_pending = false;
         std::shared_ptr<const SkyGuide> guide;
         m_pool->arena.execute([&] { guide = train_sky_guide(*m_traceable, m_settings, m_camera); });
+        if (guide)
+            m_stats.guide_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         m_traceable->set_sky_guide(std::move(guide));
-        m_stats.guide_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     const int w = m_film.width(), h = m_film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;

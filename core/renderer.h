@@ -25,7 +25,7 @@ struct RenderStats {
     uint64_t vertices = 0;
     uint64_t dropped = 0;  // non-finite or negative samples dropped
     double last_pass_seconds = 0.0;
-    double guide_seconds = 0.0;  // the sky guide's training, inside the first pass's time (core/sky_guide.h)
+    double guide_seconds = 0.0;  // the sky guide's training, inside the first pass's time (0: none trained)
 };
 
 class Renderer {
