@@ -23,8 +23,10 @@ struct RenderSettings {
     // Owen-scrambled Sobol: measured better at equal time on the Cornell box (BENCHMARKS.md sections 1 and 5).
     SamplerKind sampler = SamplerKind::Sobol;  // see core/sampler.h
     // Next-event estimation of the sky guided toward the directions a training pre-pass found unoccluded
-    // (core/sky_guide.h); only where the sky shines and the scene has no portals.
-    bool sky_guide = true;
+    // (core/sky_guide.h); only where the sky shines and the scene has no portals. Off by default: at equal time it
+    // halves the error of a room lit by the sky through a window but costs more than it gains on the sun-lit room,
+    // Sibenik and the conference room (docs/sky-guide.md).
+    bool sky_guide = false;
 
     bool operator==(const RenderSettings& o) const {
         return light_sampling == o.light_sampling && mis == o.mis && russian_roulette == o.russian_roulette &&
