@@ -52,13 +52,14 @@ SkyGuide::SkyGuide(const std::vector<double>& weights, const SkyGuideGrid& grid)
 }
 
 int SkyGuide::bin(vec3 d) {
-    const float y = glm::clamp(d.y, -1.f, 1.f);
-    const int band = std::min(int((1.f - y) * (0.5f * float(kBands))), kBands - 1);
+    // Fractional band and column, clamped inside the grid before the conversion to int (NaN: 0).
+    const float b = (1.f - d.y) * (0.5f * float(kBands));
+    const int band = b > 0.f ? int(std::min(b, float(kBands) - 0.5f)) : 0;
     float phi = environment_atan2_approx(-d.z, d.x) * kInv2Pi;  // turns, in [-1/2, 1/2]
     if (phi < 0.f) phi += 1.f;
-    int col = int(phi * float(kColumns));
-    col = col < 0 ? 0 : std::min(col, kColumns - 1);  // also maps NaN to 0
-    return std::max(band, 0) * kColumns + col;
+    const float c = phi * float(kColumns);
+    const int col = c > 0.f ? int(std::min(c, float(kColumns) - 0.5f)) : 0;
+    return band * kColumns + col;
 }
 
 vec3 SkyGuide::sample(vec3 p, float u_bin, vec2 u) const {

@@ -12,6 +12,7 @@
 // direction-to-bin function, used by pdf() and by the training.
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -32,8 +33,9 @@ struct SkyGuideGrid {
     int cells() const { return res.x * res.y * res.z; }
     // Cell index (z res.y + y) res.x + x of point p.
     int cell(vec3 p) const {
-        const vec3 c = glm::clamp((p - lo) * scale, vec3(0.f), max);  // NaN: 0 (clamp is min(max(..)))
-        return (int(c.z) * res.y + int(c.y)) * res.x + int(c.x);
+        const vec3 c = (p - lo) * scale;
+        auto axis = [&](int a) { return c[a] > 0.f ? int(std::min(c[a], max[a])) : 0; };  // NaN: 0
+        return (axis(2) * res.y + axis(1)) * res.x + axis(0);
     }
     glm::ivec3 res{1};
     vec3 lo{0.f}, scale{0.f}, max{0.5f};  // cell coordinates (p - lo) * scale, clamped to [0, max]

@@ -104,6 +104,26 @@ TEST(SkyGuide, NoWeightGivesAnInvalidGuide) {
     EXPECT_FALSE(SkyGuide(nan, grid).valid());
 }
 
+// Every direction (poles, the phi seam, non-finite) has a bin and every point (outside the grid, NaN) a cell.
+TEST(SkyGuide, BinAndCellStayInRange) {
+    const float nan = std::nanf(""), inf = std::numeric_limits<float>::infinity();
+    for (const vec3 d : {vec3(0, 1, 0), vec3(0, -1, 0), vec3(1, 0, 0), vec3(1, 0, -0.f), vec3(1, 0, 1e-30f),
+                         vec3(nan, 0, 0), vec3(0, nan, 0), vec3(inf, 0, 0)}) {
+        const int b = SkyGuide::bin(d);
+        EXPECT_GE(b, 0);
+        EXPECT_LT(b, SkyGuide::kBins);
+    }
+    EXPECT_EQ(SkyGuide::bin(vec3(0, 1, 0)) / SkyGuide::kColumns, 0);                      // zenith: top band
+    EXPECT_EQ(SkyGuide::bin(vec3(0, -1, 0)) / SkyGuide::kColumns, SkyGuide::kBands - 1);  // nadir: bottom band
+    const SkyGuideGrid grid(glm::ivec3(2, 3, 4), vec3(0.f), vec3(1.f));
+    for (const vec3 p : {vec3(-5.f), vec3(5.f), vec3(nan), vec3(0.999999f), vec3(inf, -inf, 0.5f)}) {
+        const int c = grid.cell(p);
+        EXPECT_GE(c, 0);
+        EXPECT_LT(c, grid.cells());
+    }
+    EXPECT_EQ(grid.cell(vec3(0.9f, 0.9f, 0.9f)), grid.cells() - 1);
+}
+
 // The environment's whole sample (sun, sky and guide mixed) follows light_pdf_escape, the sample's own pdf is that
 // value, and it integrates to 1.
 TEST(SkyGuide, EnvironmentMixtureFollowsItsPdf) {
