@@ -63,9 +63,11 @@ vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ra
             break;
         }
         ++vertices;
-        prefetch_hit(scene, hit);
-        const SurfacePoint sf = surface_point(scene, hit);
-        const Material& mat = ts.material(hit.prim);
+        // The hit triangle's vertices, uvs and material from its packed record (one cache line) when there is one.
+        const TriangleRecord* record = ts.triangle_record(hit.prim);
+        prefetch_hit(scene, hit, record);
+        const SurfacePoint sf = record ? surface_point(scene, hit, *record) : surface_point(scene, hit);
+        const Material& mat = record ? ts.materials()[record->material()] : ts.material(hit.prim);
         const vec3 wo_world = -ray.d;
         const bool front = glm::dot(wo_world, sf.ng) > 0.f;
 
@@ -88,7 +90,7 @@ vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ra
             mat.base_color_texture != kNoIndex ? &scene.textures[mat.base_color_texture] : nullptr;
         vec2 uv(0.f);
         if (base_color) {
-            uv = scene.uv_at(hit.prim, hit.u, hit.v);
+            uv = record ? record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
             base_color->prefetch(uv);
         }
         auto shade = [&]() -> const Bsdf& {
