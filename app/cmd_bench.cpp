@@ -31,10 +31,14 @@ std::shared_ptr<Scene> load_bench_scene(const CommonOptions& o) {
 
 void run(BenchOptions& o) {
     resolve_switches(o.common);
-    for (uint32_t spp : o.denoise_spp)
+    for (uint32_t spp : o.denoise_spp) {
         if ((spp & (spp - 1)) != 0)
             throw Error("--denoise-spp: " + std::to_string(spp) +
                         " is not a point of the series (the points are at 1, 2, 4, 8, ... spp)");
+        if (spp > o.max_spp)
+            throw Error("--denoise-spp: " + std::to_string(spp) + " is beyond --max-spp " + std::to_string(o.max_spp) +
+                        ", so the series never reaches it");
+    }
     if (!o.denoise_spp.empty()) o.denoise = true;
     for (const std::string* out : {&o.csv, &o.svg})
         if (!out->empty()) check_writable(*out);  // before the minutes of measuring, not after them
@@ -48,10 +52,11 @@ void run(BenchOptions& o) {
         const std::vector<BenchConfig> configs = parse_configs(o.configs, o.common.settings);
         Renderer renderer(scene, o.common.threads);
         std::printf(
-            "## pathview bench: %s\n\n%dx%d, %d threads, budget %.3g s (%s clock) per configuration and seed, "
+            "## pathview bench: %s\n\n%dx%d, %d thread%s, budget %.3g s (%s clock) per configuration and seed, "
             "%d seeds, max_depth %d, %zu triangles (BVH build %.3f s, %.2f MiB)\n",
-            scene_name.c_str(), o.common.width, o.common.height, renderer.threads(), o.budget, o.clock.c_str(), o.seeds,
-            o.common.settings.max_depth, scene->triangle_count(), renderer.traceable().accel().stats().build_seconds,
+            scene_name.c_str(), o.common.width, o.common.height, renderer.threads(), renderer.threads() == 1 ? "" : "s",
+            o.budget, o.clock.c_str(), o.seeds, o.common.settings.max_depth, scene->triangle_count(),
+            renderer.traceable().accel().stats().build_seconds,
             double(renderer.traceable().accel().stats().bytes) / (1024.0 * 1024.0));
         std::fflush(stdout);
         const Reference ref = make_reference(o, renderer, camera, progress);
@@ -73,8 +78,8 @@ void run(BenchOptions& o) {
         if (!o.csv.empty()) write_csv(o.csv, scene_name, all);
         if (!o.svg.empty()) {
             char sub[200];
-            std::snprintf(sub, sizeof sub, " (%dx%d, %d threads, %d seeds)", o.common.width, o.common.height,
-                          renderer.threads(), o.seeds);
+            std::snprintf(sub, sizeof sub, " (%dx%d, %d thread%s, %d seeds)", o.common.width, o.common.height,
+                          renderer.threads(), renderer.threads() == 1 ? "" : "s", o.seeds);
             // "assets/mis-plates/scene.json" is better named by its folder.
             std::filesystem::path sp(scene_name);
             const std::string name =

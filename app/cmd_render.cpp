@@ -271,12 +271,12 @@ void run(RenderOptions& o) {
                      renderer.settings().max_depth);
     std::printf(
         "pathview: %u spp in %.2f s, estimated relMSE %.3g (half buffers), %s paths/s, %s rays/s "
-        "(%s closest-hit + %s shadow), %.2f rays/path, %llu dropped samples, %d threads, %s -> %s\n",
+        "(%s closest-hit + %s shadow), %.2f rays/path, %llu dropped samples, %d thread%s, %s -> %s\n",
         st.spp, st.seconds, renderer.film().estimated_rel_mse(), format_si(double(st.paths) / secs).c_str(),
         format_si(double(st.rays + st.shadow_rays) / secs).c_str(), format_si(double(st.rays) / secs).c_str(),
         format_si(double(st.shadow_rays) / secs).c_str(),
         double(st.rays + st.shadow_rays) / double(std::max<uint64_t>(st.paths, 1)),
-        static_cast<unsigned long long>(st.dropped), renderer.threads(),
+        static_cast<unsigned long long>(st.dropped), renderer.threads(), renderer.threads() == 1 ? "" : "s",
         renderer.settings_as_rendered().describe().c_str(), written.c_str());
     if (st.guide_seconds > 0.0)
         std::printf("pathview: sky guide trained in %.3f s (part of the first pass)\n", st.guide_seconds);

@@ -34,8 +34,13 @@ std::string RenderSettings::describe() const {
            " seed=" + std::to_string(seed) + " sampler=" + sampler_name(sampler) + (sky_guide ? " sky_guide=on" : "");
 }
 
-vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler,
-                PathCounters& counters) {
+namespace {
+
+// kPacked: the hit data comes from the packed records (TriangleRecord), which the scene has; else from its indexed
+// arrays. Two instantiations, so that neither carries the other's loads and branches per vertex.
+template <bool kPacked>
+vec3 trace_path_with(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler,
+                     PathCounters& counters) {
     const Scene& scene = ts.scene();
     const bool nee = settings.light_sampling && ts.has_lights();
     const bool mis = nee && settings.mis;
@@ -63,9 +68,15 @@ vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ra
             break;
         }
         ++vertices;
-        prefetch_hit(scene, hit);
-        const SurfacePoint sf = surface_point(scene, hit);
-        const Material& mat = ts.material(hit.prim);
+        // The hit triangle's vertices, uvs and material from its packed record (one cache line) when there is one.
+        const TriangleRecord* record = kPacked ? ts.triangle_record(hit.prim) : nullptr;
+        prefetch_hit(scene, hit, record);
+        SurfacePoint sf;
+        if constexpr (kPacked)
+            sf = surface_point(scene, hit, *record);
+        else
+            sf = surface_point(scene, hit);
+        const Material& mat = kPacked ? ts.materials()[record->material()] : ts.material(hit.prim);
         const vec3 wo_world = -ray.d;
         const bool front = glm::dot(wo_world, sf.ng) > 0.f;
 
@@ -88,7 +99,7 @@ vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ra
             mat.base_color_texture != kNoIndex ? &scene.textures[mat.base_color_texture] : nullptr;
         vec2 uv(0.f);
         if (base_color) {
-            uv = scene.uv_at(hit.prim, hit.u, hit.v);
+            uv = kPacked ? record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
             base_color->prefetch(uv);
         }
         auto shade = [&]() -> const Bsdf& {
@@ -229,6 +240,14 @@ vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ra
     counters.shadow_rays += shadow_rays;
     counters.vertices += vertices;
     return L;
+}
+
+}  // namespace
+
+vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler,
+                PathCounters& counters) {
+    if (ts.triangle_record(0)) return trace_path_with<true>(ts, settings, ray, sampler, counters);
+    return trace_path_with<false>(ts, settings, ray, sampler, counters);
 }
 
 }  // namespace pv

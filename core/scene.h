@@ -104,8 +104,11 @@ struct Scene {
         if (uv_indices.empty()) return vec2(0.f);
         const uvec3 ti = uv_indices[prim];
         if (ti.x == kNoIndex) return vec2(0.f);
-        return (1.f - u - v) * uvs[ti.x] + u * uvs[ti.y] + v * uvs[ti.z];
+        return interpolate_uv(uvs[ti.x], uvs[ti.y], uvs[ti.z], u, v);
     }
+    // The uv at barycentrics (u, v) of vertices 1 and 2 between corner uvs a, b, c (one formula for every caller:
+    // the packed records below give the same bits).
+    static vec2 interpolate_uv(vec2 a, vec2 b, vec2 c, float u, float v) { return (1.f - u - v) * a + u * b + v * c; }
     // True if any triangle's material emits.
     bool has_emitters() const;
     // Appends a triangle with material `material` (tests and generated scenes).
@@ -115,6 +118,33 @@ struct Scene {
     // A camera that frames the whole scene from +z, looking down -z.
     CameraDesc framing_camera(float vfov_deg = 40.f) const;
 };
+
+// One triangle's hit data in one 64-byte cache line: its three vertex positions, its three uvs and its material id,
+// copied out of the Scene's indexed arrays (pack_triangles). A hit then waits for one cache miss where the indexed
+// layout waits for two in a row (the index, then the vertices or uvs it points to), and the texel prefetch that needs
+// the uv starts one miss earlier. Shading normals stay indexed (neither archive interior has any).
+struct alignas(64) TriangleRecord {
+    static constexpr uint32_t kNoUv = 1u << 31;  // in material_and_flags: the triangle has no uvs (uv_at gives 0)
+    vec3 p[3];
+    vec2 uv[3];
+    uint32_t material_and_flags = 0;
+
+    uint32_t material() const { return material_and_flags & ~kNoUv; }
+    // Scene::uv_at's value for this triangle, bit for bit.
+    vec2 uv_at(float u, float v) const {
+        if (material_and_flags & kNoUv) return vec2(0.f);
+        return Scene::interpolate_uv(uv[0], uv[1], uv[2], u, v);
+    }
+};
+static_assert(sizeof(TriangleRecord) == 64, "one cache line a triangle");
+
+// Above this many triangles no records are packed (64 MiB of them): a large mesh's memory budget
+// (LargeMeshSlow.TwoMillionTrianglesInBoundedMemory, 160 B a triangle with the BVH) has no room for 64 more bytes a
+// triangle, and the indexed arrays serve it as before.
+constexpr size_t kMaxPackedTriangles = size_t(1) << 20;
+
+// The records of every triangle of `s`, in triangle order; empty above max_triangles triangles.
+std::vector<TriangleRecord> pack_triangles(const Scene& s, size_t max_triangles = kMaxPackedTriangles);
 
 // The built-in Cornell box (assets/cornell-box), loaded from the installed assets folder.
 std::string builtin_scene_path();

@@ -20,18 +20,22 @@ struct SurfacePoint {
 
 // Starts loading the hit triangle's per-triangle records (vertex, normal and uv indices, material id), which live in
 // separate arrays, so that their cache misses overlap instead of each waiting for the code that reads it (the
-// material id is read only after the surface point is computed). No effect on results.
-[[gnu::always_inline]] inline void prefetch_hit(const Scene& s, const Hit& hit) {
-    __builtin_prefetch(&s.triangles[hit.prim]);
-    __builtin_prefetch(&s.material_ids[hit.prim]);
-    if (!s.uv_indices.empty()) __builtin_prefetch(&s.uv_indices[hit.prim]);
+// material id is read only after the surface point is computed); with a packed record (TriangleRecord), that line
+// and the normal indices. No effect on results.
+[[gnu::always_inline]] inline void prefetch_hit(const Scene& s, const Hit& hit,
+                                                const TriangleRecord* record = nullptr) {
+    if (record) {
+        __builtin_prefetch(record);
+    } else {
+        __builtin_prefetch(&s.triangles[hit.prim]);
+        __builtin_prefetch(&s.material_ids[hit.prim]);
+        if (!s.uv_indices.empty()) __builtin_prefetch(&s.uv_indices[hit.prim]);
+    }
     if (!s.normal_indices.empty()) __builtin_prefetch(&s.normal_indices[hit.prim]);
 }
 
-// Always inlined: it is the first thing every path vertex does.
-[[gnu::always_inline]] inline SurfacePoint surface_point(const Scene& s, const Hit& hit) {
-    const uvec3 t = s.triangles[hit.prim];
-    const vec3 p0 = s.positions[t.x], p1 = s.positions[t.y], p2 = s.positions[t.z];
+// The surface point on the hit triangle with vertices p0, p1, p2 (the Scene's, or its packed record's copies).
+[[gnu::always_inline]] inline SurfacePoint surface_point(const Scene& s, const Hit& hit, vec3 p0, vec3 p1, vec3 p2) {
     SurfacePoint sp;
     sp.b0 = 1.f - hit.u - hit.v;
     sp.p = sp.b0 * p0 + hit.u * p1 + hit.v * p2;
@@ -56,6 +60,17 @@ struct SurfacePoint {
         }
     }
     return sp;
+}
+
+// Always inlined: it is the first thing every path vertex does.
+[[gnu::always_inline]] inline SurfacePoint surface_point(const Scene& s, const Hit& hit) {
+    const uvec3 t = s.triangles[hit.prim];
+    return surface_point(s, hit, s.positions[t.x], s.positions[t.y], s.positions[t.z]);
+}
+
+// The same from the triangle's packed record (the same values: the same bits).
+[[gnu::always_inline]] inline SurfacePoint surface_point(const Scene& s, const Hit& hit, const TriangleRecord& r) {
+    return surface_point(s, hit, r.p[0], r.p[1], r.p[2]);
 }
 
 }  // namespace pv

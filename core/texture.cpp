@@ -98,30 +98,45 @@ Texture::Texture(int width, int height, std::vector<vec4> texels)
         if ((r | g | b | a) < 0) return;
         codes[i] = uint32_t(r) | uint32_t(g) << 8 | uint32_t(b) << 16 | uint32_t(a) << 24;
     }
-    m_codes = std::move(codes);
     m_texels = std::vector<vec4>();
+    tile(codes);
 }
 
-Texture::Texture(int width, int height, std::vector<uint32_t> codes)
-    : m_width(width), m_height(height), m_codes(std::move(codes)) {
-    for (const uint32_t c : m_codes)
+Texture::Texture(int width, int height, std::vector<uint32_t> codes) : m_width(width), m_height(height) {
+    for (const uint32_t c : codes)
         if ((c >> 24) < 255u) {
             m_has_alpha = true;
             break;
         }
+    tile(codes);
+}
+
+void Texture::tile(const std::vector<uint32_t>& codes) {
+    if (codes.empty()) return;
+    const size_t w = size_t(m_width), h = size_t(m_height);
+    m_blocks_per_row = (w + 3) / 4;
+    m_blocks.assign(m_blocks_per_row * ((h + 3) / 4), CodeBlock{});
+    for (size_t y = 0; y < h; ++y)
+        for (size_t x = 0; x < w; ++x) {
+            const size_t i = tiled_index(x, y, m_blocks_per_row);
+            m_blocks[i >> 4].code[i & 15] = codes[y * w + x];
+        }
 }
 
 std::vector<vec4> Texture::texels() const {
-    if (m_codes.empty()) return m_texels;
-    std::vector<vec4> out(m_codes.size());
-    for (size_t i = 0; i < out.size(); ++i) out[i] = texel(i);
+    if (m_blocks.empty()) return m_texels;
+    const size_t w = size_t(m_width), h = size_t(m_height);
+    std::vector<vec4> out(w * h);
+    for (size_t y = 0; y < h; ++y)
+        for (size_t x = 0; x < w; ++x) out[y * w + x] = texel(tiled_index(x, y, m_blocks_per_row));
     return out;
 }
 
+// Texel i of the storage: row-major floats, or the tiled codes decoded.
 inline vec4 Texture::texel(size_t i) const {
-    if (m_codes.empty()) return m_texels[i];
+    if (m_blocks.empty()) return m_texels[i];
     const float* table = srgb_table();
-    const uint32_t c = m_codes[i];
+    const uint32_t c = m_blocks[i >> 4].code[i & 15];
     return vec4(table[c & 0xffu], table[(c >> 8) & 0xffu], table[(c >> 16) & 0xffu], float(c >> 24) / 255.f);
 }
 
@@ -371,6 +386,14 @@ inline bool Texture::footprint(vec2 uv, size_t (&index)[4], float& tx, float& ty
     const long long ix = static_cast<long long>(fx), iy = static_cast<long long>(fy);
     const size_t x0 = wrap(ix, m_width), x1 = x0 + 1 == size_t(m_width) ? 0 : x0 + 1;
     const size_t y0 = wrap(iy, m_height), y1 = y0 + 1 == size_t(m_height) ? 0 : y0 + 1;
+    if (!m_blocks.empty()) {
+        const size_t b = m_blocks_per_row;
+        index[0] = tiled_index(x0, y0, b);
+        index[1] = tiled_index(x1, y0, b);
+        index[2] = tiled_index(x0, y1, b);
+        index[3] = tiled_index(x1, y1, b);
+        return true;
+    }
     const size_t w = size_t(m_width);
     index[0] = y0 * w + x0;
     index[1] = y0 * w + x1;
@@ -380,7 +403,7 @@ inline bool Texture::footprint(vec2 uv, size_t (&index)[4], float& tx, float& ty
 }
 
 vec4 Texture::lookup(vec2 uv) const {
-    if (m_texels.empty() && m_codes.empty()) return vec4(1.f);
+    if (m_texels.empty() && m_blocks.empty()) return vec4(1.f);
     size_t i[4];
     float tx, ty;
     if (!footprint(uv, i, tx, ty)) return texel(0);
@@ -389,15 +412,15 @@ vec4 Texture::lookup(vec2 uv) const {
 }
 
 void Texture::prefetch(vec2 uv) const {
-    if (m_texels.empty() && m_codes.empty()) return;
+    if (m_texels.empty() && m_blocks.empty()) return;
     size_t i[4];
     float tx, ty;
     if (!footprint(uv, i, tx, ty)) return;
     for (const size_t k : i) {
-        if (m_codes.empty())
+        if (m_blocks.empty())
             __builtin_prefetch(&m_texels[k]);
         else
-            __builtin_prefetch(&m_codes[k]);
+            __builtin_prefetch(&m_blocks[k >> 4]);
     }
 }
 

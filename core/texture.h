@@ -2,7 +2,9 @@
 // Linear values (8-bit colour images are sRGB-decoded on load; HDR images are already linear); bilinear
 // lookup with repeat wrapping. uv follows OBJ: v = 0 is the bottom row of the image. A texture whose every texel
 // is an 8-bit sRGB code (what an 8-bit image decodes to) is stored as those codes, 4 bytes a texel instead of 16,
-// and decoded per lookup through a 256-entry table: the same values, a quarter of the memory traffic.
+// and decoded per lookup through a 256-entry table: the same values, a quarter of the memory traffic. The codes are
+// tiled: 4x4 texels to a 64-byte block, one cache line, so a bilinear footprint touches 1.56 lines on average
+// instead of 2.1 (and one page more rarely two), where rows of a wide image are a page apart.
 #pragma once
 
 #include <string>
@@ -43,17 +45,28 @@ public:
     int width() const { return m_width; }
     int height() const { return m_height; }
     bool has_alpha() const { return m_has_alpha; }
-    size_t bytes() const { return m_texels.size() * sizeof(vec4) + m_codes.size() * sizeof(uint32_t); }
+    size_t bytes() const { return m_texels.size() * sizeof(vec4) + m_blocks.size() * sizeof(CodeBlock); }
     // The linear texels, row 0 at the top (decoded from the 8-bit codes when kept as codes).
     std::vector<vec4> texels() const;
 
+    // Where texel (x, y) (row y from the top) of a width x height image lies in the tiled code storage: 4x4 blocks
+    // of 16 codes (row-major within the block), the blocks row-major, ceil(width / 4) to a row of blocks.
+    static size_t tiled_index(size_t x, size_t y, size_t blocks_per_row) {
+        return ((y >> 2) * blocks_per_row + (x >> 2)) * 16 + (y & 3) * 4 + (x & 3);
+    }
+
 private:
+    struct alignas(64) CodeBlock {
+        uint32_t code[16];
+    };
     vec4 texel(size_t i) const;
     bool footprint(vec2 uv, size_t (&index)[4], float& tx, float& ty) const;
+    void tile(const std::vector<uint32_t>& codes);
     int m_width = 0, m_height = 0;
+    size_t m_blocks_per_row = 0;
     bool m_has_alpha = false;
-    std::vector<vec4> m_texels;     // linear texels, when not every texel is an 8-bit code
-    std::vector<uint32_t> m_codes;  // else: R, G, B (sRGB codes) and A (linear code) from the low byte up
+    std::vector<vec4> m_texels;       // linear texels, row-major, when not every texel is an 8-bit code
+    std::vector<CodeBlock> m_blocks;  // else the codes, tiled: R, G, B (sRGB codes) and A (linear code), low byte up
 };
 
 // The linear value of 8-bit sRGB code c in [0, 255] (IEC 61966-2-1), as 8-bit images are decoded.

@@ -17,6 +17,7 @@ TraceableScene::TraceableScene(std::shared_ptr<const Scene> scene, const std::fu
     if (!m_portal_cdf.empty()) m_portal_cdf.back() = 1.f;
     m_portal_area = float(total);
     m_accel = std::make_unique<Accel>(*m_scene, m_materials, build_progress);
+    m_records = pack_triangles(*m_scene);
     m_lights = LightSet(*m_scene, m_materials);
     m_environment_settings = m_scene->environment;
     m_environment = Environment(*m_scene, m_environment_settings);

@@ -67,6 +67,10 @@ public:
     const Scene& scene() const { return *m_scene; }
     const std::vector<Material>& materials() const { return m_materials; }
     const Material& material(uint32_t prim) const { return m_materials[m_scene->material_ids[prim]]; }
+    // Triangle prim's packed hit record (scene.h: TriangleRecord), or null when the scene is too large to pack.
+    const TriangleRecord* triangle_record(uint32_t prim) const {
+        return m_records.empty() ? nullptr : &m_records[prim];
+    }
     const Accel& accel() const { return *m_accel; }
     const LightSet& triangle_lights() const { return m_lights; }
     const Environment& environment() const { return m_environment; }
@@ -139,6 +143,7 @@ private:
     std::shared_ptr<const Scene> m_scene;
     std::vector<Material> m_materials;
     std::unique_ptr<Accel> m_accel;
+    std::vector<TriangleRecord> m_records;  // pack_triangles(scene): empty above kMaxPackedTriangles
     LightSet m_lights;
     EnvironmentSettings m_environment_settings;
     Environment m_environment;

@@ -240,21 +240,32 @@ TEST(BadInputCli, UnwritableOutputExitsNonZeroWithOneLine) {
     fs::remove_all(as_dir);
 }
 
-// bench --denoise-spp takes points of the series only (powers of two); another value is one line, before the
-// reference is rendered.
-TEST(BadInputCli, BenchDenoiseSppMustBeAPointOfTheSeries) {
+// bench with these --denoise-spp points fails with one line containing `expected`, before anything is rendered.
+void expect_bench_denoise_spp_refused(const std::string& points, const std::string& expected) {
     const fs::path ref = fs::temp_directory_path() / ("pathview_cli_ref1_" + std::to_string(::getpid()) + ".exr");
     std::error_code ec;
     fs::remove(ref, ec);
     const RunResult r = run_pathview(
         "bench --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind --seeds 1 --max-spp 16 -q --csv '' "
-        "--svg '' --denoise-spp 16,12 --save-reference '" +
-        ref.string() + "'");
+        "--svg '' --denoise-spp " +
+        points + " --save-reference '" + ref.string() + "'");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
-    EXPECT_NE(r.err.find("--denoise-spp: 12"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(ref)) << "the reference was rendered before --denoise-spp was checked";
     fs::remove(ref, ec);
+}
+
+// bench --denoise-spp takes points of the series only (powers of two).
+// bench --denoise-spp takes points of the series only (powers of two).
+TEST(BadInputCli, BenchDenoiseSppMustBeAPointOfTheSeries) {
+    expect_bench_denoise_spp_refused("16,12", "--denoise-spp: 12");
+}
+
+// A --denoise-spp point past --max-spp was accepted and then never denoised: the bench ran its whole series and
+// reported no denoised column. Now one line before anything is rendered.
+TEST(BadInputCli, BenchDenoiseSppBeyondMaxSppIsRefused) {
+    expect_bench_denoise_spp_refused("32", "--denoise-spp: 32 is beyond --max-spp 16");
 }
 
 // render, view and bench set a scene up through one function (issue 10, item 6): bench applies --environment and

@@ -38,7 +38,8 @@ TEST(TextureStorage, EightBitCodesLookUpAsTheFloatsTheyDecodeTo) {
         t = vec4(srgb_code_to_linear(int(rng.next_u32() % 256)), srgb_code_to_linear(int(rng.next_u32() % 256)),
                  srgb_code_to_linear(int(rng.next_u32() % 256)), float(rng.next_u32() % 256) / 255.f);
     const Texture coded(w, h, texels);
-    EXPECT_EQ(coded.bytes(), texels.size() * 4) << "every texel is an 8-bit code: 4 bytes each";
+    // 4 bytes a texel, in 4x4 blocks: 7x5 texels pad to 8x8.
+    EXPECT_EQ(coded.bytes(), size_t(8 * 8 * 4)) << "every texel is an 8-bit code: 4 bytes each";
     // Every one of the 256 codes in every channel is recognised.
     std::vector<vec4> all(256);
     for (int c = 0; c < 256; ++c)
@@ -64,6 +65,80 @@ TEST(TextureStorage, EightBitCodesLookUpAsTheFloatsTheyDecodeTo) {
                 EXPECT_TRUE(same_bits(b[c], r[c])) << "float storage, uv " << uv.x << "," << uv.y;
             }
         }
+    }
+}
+
+// Random texels that are all 8-bit codes (colour sRGB, alpha linear), row-major.
+std::vector<vec4> random_code_texels(int w, int h, Pcg32& rng) {
+    std::vector<vec4> texels(size_t(w) * size_t(h));
+    for (vec4& t : texels)
+        t = vec4(srgb_code_to_linear(int(rng.next_u32() % 256)), srgb_code_to_linear(int(rng.next_u32() % 256)),
+                 srgb_code_to_linear(int(rng.next_u32() % 256)), float(rng.next_u32() % 256) / 255.f);
+    return texels;
+}
+
+// The codes are stored in 4x4 tiles (64-byte blocks): every size, even or odd, 1xN and Nx1 included, looks up what
+// the row-major reference gives, bit for bit, in all four channels (alpha masks included), wrapping at every edge.
+TEST(TextureStorage, TiledCodesLookUpAsTheRowMajorReference) {
+    const int sizes[][2] = {{1, 1}, {1, 9}, {9, 1}, {2, 3}, {3, 3}, {4, 4}, {5, 7}, {8, 3}, {17, 9}, {33, 2}, {64, 65}};
+    Pcg32 rng(5, 6);
+    for (const auto& size : sizes) {
+        const int w = size[0], h = size[1];
+        const std::vector<vec4> texels = random_code_texels(w, h, rng);
+        const Texture t(w, h, texels);
+        const size_t padded = size_t((w + 3) / 4 * 4) * size_t((h + 3) / 4 * 4);
+        ASSERT_EQ(t.bytes(), padded * 4) << w << "x" << h << ": kept as tiled codes";
+        ASSERT_TRUE(t.has_alpha());
+        // The row-major texels come back out.
+        const std::vector<vec4> back = t.texels();
+        ASSERT_EQ(back.size(), texels.size());
+        for (size_t i = 0; i < texels.size(); ++i)
+            for (int c = 0; c < 4; ++c) ASSERT_TRUE(same_bits(back[i][c], texels[i][c])) << w << "x" << h << " " << i;
+        for (int i = 0; i < 3000; ++i) {
+            const float span = i < 1000 ? 1.f : i < 2000 ? 3.f : 1e3f;
+            vec2 uv((rng.next_float() - 0.3f) * span, (rng.next_float() - 0.3f) * span);
+            // Texel centres and edges, the image's own edges (0 and 1) and one period outside them.
+            if (i % 5 == 0)
+                uv = vec2(float(int(rng.next_u32() % uint32_t(3 * w + 1)) - w) / float(2 * w),
+                          float(int(rng.next_u32() % uint32_t(3 * h + 1)) - h) / float(2 * h));
+            const vec4 a = t.lookup(uv), r = reference_lookup(texels, w, h, uv);
+            for (int c = 0; c < 4; ++c)
+                ASSERT_TRUE(same_bits(a[c], r[c])) << w << "x" << h << " uv " << uv.x << "," << uv.y << " channel " << c
+                                                   << ": " << a[c] << " vs " << r[c];
+        }
+    }
+}
+
+// Where each texel goes in the tiles: inside a 4x4 block row-major, the blocks row-major, each block 16 codes.
+TEST(TextureStorage, TiledIndexCoversEachPaddedSlotOnce) {
+    for (const int w : {1, 3, 4, 5, 13}) {
+        const size_t blocks = size_t(w + 3) / 4;
+        const int h = 7;
+        std::vector<int> seen(blocks * 2 * 16, 0);
+        for (size_t y = 0; y < size_t(h); ++y)
+            for (size_t x = 0; x < size_t(w); ++x) {
+                const size_t i = Texture::tiled_index(x, y, blocks);
+                ASSERT_LT(i, seen.size());
+                ++seen[i];
+                EXPECT_EQ(i / 16, (y / 4) * blocks + x / 4) << "the block of " << x << "," << y;
+            }
+        for (const int n : seen) EXPECT_LE(n, 1);
+    }
+}
+
+// A mask (map_d) decoded from a grey image keeps its grey levels as alpha through the tiles.
+TEST(TextureStorage, TiledAlphaMaskFromAGreyImage) {
+    const int w = 5, h = 3;
+    std::vector<uint32_t> codes(size_t(w * h));
+    for (size_t i = 0; i < codes.size(); ++i) codes[i] = 0x00ffffffu | uint32_t(i * 17) << 24;
+    const Texture t(w, h, codes);
+    EXPECT_TRUE(t.has_alpha());
+    std::vector<vec4> decoded(codes.size());
+    for (size_t i = 0; i < codes.size(); ++i) decoded[i] = vec4(vec3(srgb_code_to_linear(255)), float(i * 17) / 255.f);
+    Pcg32 rng(8, 9);
+    for (int i = 0; i < 500; ++i) {
+        const vec2 uv(rng.next_float() * 3.f - 1.f, rng.next_float() * 3.f - 1.f);
+        EXPECT_TRUE(same_bits(t.lookup(uv).w, reference_lookup(decoded, w, h, uv).w)) << uv.x << "," << uv.y;
     }
 }
 
