@@ -42,27 +42,11 @@ struct RenderOptions {
 };
 
 // Options that --resume takes from the part instead (they define the image).
-const char* const kFromPart[] = {"--width",
-                                 "--height",
-                                 "--seed",
-                                 "--max-depth",
-                                 "--light-sampling",
-                                 "--mis",
-                                 "--rr",
-                                 "--sampler",
-                                 "--eye",
-                                 "--target",
-                                 "--up",
-                                 "--fov",
-                                 "--aperture",
-                                 "--focus-distance",
-                                 "--bookmark",
-                                 "--environment",
-                                 "--env-rotation",
-                                 "--env-strength",
-                                 "--sun",
-                                 "--sun-irradiance",
-                                 "--sun-radius"};
+const char* const kFromPart[] = {
+    "--width",        "--height",    "--seed",           "--max-depth", "--light-sampling", "--mis",
+    "--rr",           "--sky-guide", "--sampler",        "--eye",       "--target",         "--up",
+    "--fov",          "--aperture",  "--focus-distance", "--bookmark",  "--environment",    "--env-rotation",
+    "--env-strength", "--sun",       "--sun-irradiance", "--sun-radius"};
 
 // The scene overrides given (--environment, --sun ...) as flags, recorded in partial renders so that --resume
 // applies them again (exact: %.9g).
@@ -293,7 +277,9 @@ void run(RenderOptions& o) {
         format_si(double(st.shadow_rays) / secs).c_str(),
         double(st.rays + st.shadow_rays) / double(std::max<uint64_t>(st.paths, 1)),
         static_cast<unsigned long long>(st.dropped), renderer.threads(), renderer.threads() == 1 ? "" : "s",
-        renderer.settings().describe().c_str(), written.c_str());
+        renderer.settings_as_rendered().describe().c_str(), written.c_str());
+    if (st.guide_seconds > 0.0)
+        std::printf("pathview: sky guide trained in %.3f s (part of the first pass)\n", st.guide_seconds);
     if (renderer.adaptive_settings().enabled())
         std::printf(
             "pathview: noise threshold %g: %.1f%% of pixels still active, %.1f samples per pixel on average%s\n",

@@ -253,6 +253,22 @@ float Environment::pdf_sky(vec3 dir) const {
     return pdf_sky_texel(texel, sin_theta);
 }
 
+vec3 Environment::eval_and_pdf_sky(vec3 dir, float* sky_pdf) const {
+    const vec3 sun = eval_sun(dir);
+    if (m_sky_black) {
+        *sky_pdf = 0.f;
+        return sun;
+    }
+    if (!m_map) {
+        *sky_pdf = uniform_sphere_pdf();
+        return sun + m_constant;
+    }
+    float sin_theta = 0.f;
+    const size_t texel = texel_index(dir, &sin_theta);
+    *sky_pdf = pdf_sky_texel(texel, sin_theta);
+    return sun + m_radiance[texel];
+}
+
 float Environment::pdf_sky_texel(size_t texel, float sin_theta) const {
     if (!(sin_theta > 0.f)) return 0.f;
     // Jacobian of (u, v) -> direction: d omega = 2 pi^2 sin(theta) du dv.

@@ -44,6 +44,9 @@ public:
     float sun_probability() const { return m_p_sun; }
     float pdf_sun(vec3 dir) const;
     float pdf_sky(vec3 dir) const;
+    vec3 eval_sky(vec3 dir) const;  // the sky's radiance alone (no sun)
+    // eval(dir), and pdf_sky(dir) in *sky_pdf, with one texel search.
+    vec3 eval_and_pdf_sky(vec3 dir, float* sky_pdf) const;
 
     // The equirectangular parameterisation (exposed for tests): uv in [0,1)^2, v = 0 at the zenith.
     // direction_to_uv is the libm reference; eval/pdf use direction_to_texel, which agrees with
@@ -71,7 +74,6 @@ private:
 
     bool in_sun(vec3 dir) const;  // dir (any length, not 0) within the sun's angular radius
     vec3 eval_sun(vec3 dir) const;
-    vec3 eval_sky(vec3 dir) const;
     float pdf_sky_texel(size_t texel, float sin_theta) const;  // map pdf toward a direction in that texel
     // Texel index row * width + column of dir, and sin(theta) of dir (0 at the poles).
     size_t texel_index(vec3 dir, float* sin_theta) const;

@@ -31,7 +31,7 @@ inline float bsdf_hit_weight(bool mis, float bsdf_pdf, float light_pdf) {
 std::string RenderSettings::describe() const {
     return std::string("nee=") + (light_sampling ? "on" : "off") + " mis=" + (mis ? "on" : "off") +
            " rr=" + (russian_roulette ? "on" : "off") + " max_depth=" + std::to_string(max_depth) +
-           " seed=" + std::to_string(seed) + " sampler=" + sampler_name(sampler);
+           " seed=" + std::to_string(seed) + " sampler=" + sampler_name(sampler) + (sky_guide ? " sky_guide=on" : "");
 }
 
 namespace {

@@ -22,13 +22,19 @@ struct RenderSettings {
     uint32_t seed = 0;
     // Owen-scrambled Sobol: measured better at equal time on the Cornell box (BENCHMARKS.md sections 1 and 5).
     SamplerKind sampler = SamplerKind::Sobol;  // see core/sampler.h
+    // Next-event estimation of the sky guided toward the directions a training pre-pass found unoccluded
+    // (core/sky_guide.h); only where the sky shines and the scene has no portals. Off by default: at equal time it
+    // halves the error of a room lit by the sky through a window but costs more than it gains on the sun-lit room,
+    // Sibenik and the conference room (docs/sky-guide.md).
+    bool sky_guide = false;
 
     bool operator==(const RenderSettings& o) const {
         return light_sampling == o.light_sampling && mis == o.mis && russian_roulette == o.russian_roulette &&
-               max_depth == o.max_depth && seed == o.seed && sampler == o.sampler;
+               max_depth == o.max_depth && seed == o.seed && sampler == o.sampler && sky_guide == o.sky_guide;
     }
     bool operator!=(const RenderSettings& o) const { return !(*this == o); }
-    // One line for logs and EXR metadata, e.g. "nee=on mis=on rr=on max_depth=1024 seed=0 sampler=independent".
+    // One line for logs and EXR metadata, e.g. "nee=on mis=on rr=on max_depth=1024 seed=0 sampler=independent",
+    // then " sky_guide=on" when sky_guide is on (strings from before the guide existed mean it off).
     std::string describe() const;
 };
 

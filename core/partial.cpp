@@ -246,6 +246,7 @@ CameraDesc parse_camera(const std::string& text, const std::string& what) {
 
 RenderSettings parse_settings(const std::string& text, const std::string& what) {
     RenderSettings s;
+    s.sky_guide = false;  // absent in strings from before the sky guide
     std::stringstream ss(text);
     std::string item;
     bool ok = true;
@@ -263,6 +264,8 @@ RenderSettings parse_settings(const std::string& text, const std::string& what) 
             s.max_depth = int(parse_u64(value, num_ok)), ok = num_ok;
         else if (key == "seed")
             s.seed = uint32_t(parse_u64(value, num_ok)), ok = num_ok;
+        else if (key == "sky_guide" && value == "on")
+            s.sky_guide = true;
         else if (key == "sampler" && parse_sampler(value))
             s.sampler = *parse_sampler(value);
         else
@@ -277,7 +280,7 @@ PartialRender partial_from_renderer(const Renderer& r, std::vector<SampleRange> 
     PartialRender p;
     p.id.version = partial_version();
     p.id.scene_hash = scene_hash(r.scene(), r.traceable().materials(), r.traceable().environment_settings());
-    p.id.settings = r.settings().describe();
+    p.id.settings = r.settings_as_rendered().describe();
     p.id.camera = camera_text(r.camera().desc());
     p.id.width = r.film().width();
     p.id.height = r.film().height();

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/sky_guide.h"
 #include "core/tsan.h"
 
 namespace pv {
@@ -50,6 +51,16 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     m_mask.reset(width, height);
     m_stats = RenderStats{};
     m_next_sample = 0;
+    // The guide is trained in the first pass (timed with it) and frozen for the accumulation, so every shard,
+    // resume and half buffer sees the same one.
+    m_traceable->set_sky_guide(nullptr);
+    m_guide_pending = settings.sky_guide;
+}
+
+RenderSettings Renderer::settings_as_rendered() const {
+    RenderSettings s = m_settings;
+    s.sky_guide = sky_guide_applies(*m_traceable, m_settings);
+    return s;
 }
 
 void Renderer::load_film(Film film) {
@@ -62,6 +73,14 @@ void Renderer::load_film(Film film) {
 
 bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const auto start = std::chrono::steady_clock::now();
+    if (m_guide_pending) {
+        m_guide_pending = false;
+        std::shared_ptr<const SkyGuide> guide;
+        m_pool->arena.execute([&] { guide = train_sky_guide(*m_traceable, m_settings, m_camera); });
+        if (guide)
+            m_stats.guide_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        m_traceable->set_sky_guide(std::move(guide));
+    }
     const int w = m_film.width(), h = m_film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
     const uint32_t index = m_next_sample;
@@ -125,7 +144,7 @@ Metadata render_metadata(const Renderer& r) {
     Metadata m;
     m["pathview:spp"] = std::to_string(st.spp);
     m["pathview:seconds"] = std::to_string(st.seconds);
-    m["pathview:settings"] = r.settings().describe();
+    m["pathview:settings"] = r.settings_as_rendered().describe();
     m["pathview:camera"] = "--eye " + v3(c.eye) + " --target " + v3(c.target) + " --up " + v3(c.up) + " --fov " +
                            std::to_string(c.vfov_deg) + " --aperture " + std::to_string(c.aperture) +
                            " --focus-distance " + std::to_string(c.focus_distance);

@@ -25,6 +25,7 @@ struct RenderStats {
     uint64_t vertices = 0;
     uint64_t dropped = 0;  // non-finite or negative samples dropped
     double last_pass_seconds = 0.0;
+    double guide_seconds = 0.0;  // the sky guide's training, inside the first pass's time (0: none trained)
 };
 
 class Renderer {
@@ -64,6 +65,9 @@ public:
     const Film& film() const { return m_film; }
     const RenderStats& stats() const { return m_stats; }
     const RenderSettings& settings() const { return m_settings; }
+    // The settings with sky_guide on only where the guide applies (sky_guide_applies): what the image depends on,
+    // for metadata and partial renders (a render the guide cannot change keeps the string it had before it).
+    RenderSettings settings_as_rendered() const;
     const Camera& camera() const { return m_camera; }
     const Scene& scene() const { return m_traceable->scene(); }
     // The scene as traced: current materials and environment, BVH, lights.
@@ -79,6 +83,7 @@ private:
     AdaptiveMask m_mask;
     RenderStats m_stats;
     uint32_t m_next_sample = 0;
+    bool m_guide_pending = false;  // train the sky guide in the next pass
     int m_threads = 1;
     struct Pool;
     std::unique_ptr<Pool> m_pool;

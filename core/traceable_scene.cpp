@@ -50,6 +50,15 @@ void TraceableScene::update_selection() {
                          m_portal_area > 0.f && std::isfinite(m_portal_area)
                      ? kPortalProbability
                      : 0.f;
+    m_p_mix = m_p_portal > 0.f ? m_p_portal
+              : m_sky_guide && m_sky_guide->valid() && m_p_env > 0.f && m_environment.sun_probability() < 1.f
+                  ? kSkyGuideProbability
+                  : 0.f;
+}
+
+void TraceableScene::set_sky_guide(std::shared_ptr<const SkyGuide> guide) {
+    m_sky_guide = std::move(guide);
+    update_selection();
 }
 
 float TraceableScene::portal_pdf(vec3 ref, vec3 dir) const {
@@ -84,22 +93,36 @@ bool TraceableScene::sample_portal(vec3 ref, float u_pick, vec2 u, vec3& wi) con
     return true;
 }
 
-float TraceableScene::environment_pdf_with_portals(vec3 ref, vec3 dir) const {
-    const float p_sun = m_environment.sun_probability(), q = m_p_portal;
-    return p_sun * m_environment.pdf_sun(dir) +
-           (1.f - p_sun) * ((1.f - q) * m_environment.pdf_sky(dir) + q * portal_pdf(ref, dir));
+namespace {
+// p_sun pdf_sun + (1 - p_sun) ((1 - q) pdf_sky + q pdf_mix): one expression for the sample's and the escape's pdf.
+inline float mixture_pdf(float p_sun, float pdf_sun, float q, float pdf_sky, float pdf_mix) {
+    return p_sun * pdf_sun + (1.f - p_sun) * ((1.f - q) * pdf_sky + q * pdf_mix);
+}
+}  // namespace
+
+float TraceableScene::environment_pdf_mixed(vec3 ref, vec3 dir) const {
+    return mixture_pdf(m_environment.sun_probability(), m_environment.pdf_sun(dir), m_p_mix, m_environment.pdf_sky(dir),
+                       mix_pdf(ref, dir));
 }
 
-bool TraceableScene::sample_environment_with_portals(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
-    // The sun as before (u.x below its probability); the sky's share goes to the portals when u_select < q.
-    const float p_sun = m_environment.sun_probability(), q = m_p_portal;
+bool TraceableScene::sample_environment_mixed(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
+    // The sun as before (u.x below its probability); the sky's share goes to the portals or the guide when
+    // u_select < q.
+    const float p_sun = m_environment.sun_probability(), q = m_p_mix;
     vec3 wi, le;
     float pdf;
     if (u.x >= p_sun && u_select < q) {
         const vec2 up(std::min((u.x - p_sun) / (1.f - p_sun), 0x1.fffffep-1f), u.y);
-        if (!sample_portal(ref, u_select / q, up, wi)) return false;
-        le = m_environment.eval(wi);
-        pdf = m_p_env * environment_pdf_with_portals(ref, wi);
+        if (m_p_portal > 0.f) {
+            if (!sample_portal(ref, u_select / q, up, wi)) return false;
+            le = m_environment.eval(wi);
+            pdf = m_p_env * environment_pdf_mixed(ref, wi);
+        } else {
+            wi = m_sky_guide->sample(ref, u_select / q, up);
+            float pdf_sky;
+            le = m_environment.eval_and_pdf_sky(wi, &pdf_sky);
+            pdf = m_p_env * mixture_pdf(p_sun, m_environment.pdf_sun(wi), q, pdf_sky, m_sky_guide->pdf(ref, wi));
+        }
     } else {
         const std::optional<EnvironmentSample> es = m_environment.sample(u);
         if (!es) return false;
@@ -107,8 +130,8 @@ bool TraceableScene::sample_environment_with_portals(vec3 ref, float u_select, v
         le = es->le;
         // A sky direction outside the sun: es->pdf is (1 - p_sun) pdf_sky, no second texel search.
         pdf = u.x >= p_sun && m_environment.pdf_sun(wi) == 0.f
-                  ? m_p_env * ((1.f - q) * es->pdf + (1.f - p_sun) * q * portal_pdf(ref, wi))
-                  : m_p_env * environment_pdf_with_portals(ref, wi);
+                  ? m_p_env * ((1.f - q) * es->pdf + (1.f - p_sun) * q * mix_pdf(ref, wi))
+                  : m_p_env * environment_pdf_mixed(ref, wi);
     }
     if (!(pdf > 0.f)) return false;
     ls.wi = wi;

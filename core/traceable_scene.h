@@ -19,6 +19,10 @@
 // mixture: a portal that misses the opening costs variance, never bias. Without portals nothing changes (same
 // draws, same pdfs, bit-identical images).
 //
+// Sky guide (core/sky_guide.h, set by the Renderer after its training pre-pass): the same mixture with the learned
+// histogram in the portals' place (probability kSkyGuideProbability), when there are no portals. Without a guide
+// nothing changes.
+//
 // Read-only and shared by all render threads; set_materials and set_environment are not concurrent with queries.
 #pragma once
 
@@ -33,6 +37,7 @@
 #include "core/environment.h"
 #include "core/lights.h"
 #include "core/scene.h"
+#include "core/sky_guide.h"
 
 namespace pv {
 
@@ -83,7 +88,7 @@ public:
     bool has_lights() const { return !m_lights.empty() || m_p_env > 0.f; }
     // True if sample_light uses u_select (false when the environment is the only light: callers skip that draw).
     // With portals the draw also chooses between the portals and the environment's own sampling.
-    bool light_selection_draw() const { return m_p_env != 1.f || m_p_portal > 0.f; }
+    bool light_selection_draw() const { return m_p_env != 1.f || m_p_mix > 0.f; }
     // Samples a light direction from `ref` into `ls` (pdf per solid angle, the selection probability included; an
     // environment sample has dist = infinity). False (ls unspecified) when the sample is useless.
     bool sample_light(vec3 ref, float u_select, vec2 u, LightSample& ls) const;
@@ -94,8 +99,8 @@ public:
     // The pdf sample_light would give the environment in direction dir from `ref` (the ray's origin: portals make
     // it depend on where the ray starts).
     float light_pdf_escape(vec3 ref, vec3 dir) const {
-        if (m_p_portal == 0.f) return m_p_env * m_environment.pdf(dir);
-        return m_p_env * environment_pdf_with_portals(ref, dir);
+        if (m_p_mix == 0.f) return m_p_env * m_environment.pdf(dir);
+        return m_p_env * environment_pdf_mixed(ref, dir);
     }
     // Emission a ray finds: on a hit with material `mat` from the front (or not), mat.emission when emits() (a
     // one-sided emitter is black behind); on leaving the scene in direction dir, emitted_escape(dir), nothing when
@@ -116,12 +121,24 @@ public:
     // Samples that distribution: u_pick chooses the portal, u the point on it. False when degenerate.
     bool sample_portal(vec3 ref, float u_pick, vec2 u, vec3& wi) const;
 
+    // The learned sky distribution mixed into the sky's sampling (nullptr: none). Not concurrent with queries.
+    void set_sky_guide(std::shared_ptr<const SkyGuide> guide);
+    const SkyGuide* sky_guide() const { return m_sky_guide.get(); }
+    static constexpr float kSkyGuideProbability = 0.5f;
+    // Probability that a sample of the sky follows the guide (0 without one, with portals, or with a black sky).
+    float sky_guide_probability() const { return m_p_portal > 0.f ? 0.f : m_p_mix; }
+
 private:
     void update_selection();
-    // The environment's sample when there are portals (u_select in [0, 1): portal or environment, then which portal).
-    bool sample_environment_with_portals(vec3 ref, float u_select, vec2 u, LightSample& ls) const;
-    // The environment's pdf toward dir from ref when there are portals (without the selection probability p_env).
-    float environment_pdf_with_portals(vec3 ref, vec3 dir) const;
+    // The environment's sample when the sky's sampling is a mixture with portals or the guide (u_select in [0, 1):
+    // the mixture's other part or the environment, then which portal or bin).
+    bool sample_environment_mixed(vec3 ref, float u_select, vec2 u, LightSample& ls) const;
+    // The environment's pdf toward dir from ref then (without the selection probability p_env).
+    float environment_pdf_mixed(vec3 ref, vec3 dir) const;
+    // The mixture's other part: the portals', else the guide's.
+    float mix_pdf(vec3 ref, vec3 dir) const {
+        return m_p_portal > 0.f ? portal_pdf(ref, dir) : m_sky_guide->pdf(ref, dir);
+    }
 
     std::shared_ptr<const Scene> m_scene;
     std::vector<Material> m_materials;
@@ -132,6 +149,8 @@ private:
     Environment m_environment;
     float m_p_env = 0.f;
     float m_p_portal = 0.f;
+    float m_p_mix = 0.f;  // share of the sky's samples taken by the portals (m_p_portal) or else the guide
+    std::shared_ptr<const SkyGuide> m_sky_guide;
     std::vector<float> m_portal_cdf;  // the scene's portals' cumulative areas / total, last 1
     float m_portal_area = 0.f;        // total
 };
@@ -140,7 +159,7 @@ private:
 inline bool TraceableScene::sample_light(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
     const float p_env = m_p_env;
     if (u_select < p_env) {
-        if (m_p_portal > 0.f) return sample_environment_with_portals(ref, u_select / p_env, u, ls);
+        if (m_p_mix > 0.f) return sample_environment_mixed(ref, u_select / p_env, u, ls);
         const std::optional<EnvironmentSample> es = m_environment.sample(u);
         if (!es) return false;
         ls.wi = es->wi;

@@ -89,24 +89,8 @@ TEST(Portals, PortalDirectionsFollowTheirPdf) {
 // and it integrates to 1; a reference point outside the room works the same.
 TEST(Portals, EnvironmentMixtureFollowsItsPdf) {
     const TraceableScene ts(window_room({kWindow, kMisplacedA}, true));
-    for (const vec3 ref : {vec3(0.4f, 0.45f, 0.55f), vec3(1.5f, 0.2f, 0.5f)}) {
-        test::Chi2Options o;
-        o.sample_count = 300000;
-        o.test_count = 2;
-        const auto r = test::chi2_test(
-            [&](Pcg32& g) -> std::optional<vec3> {
-                const float us = g.next_float();
-                const float u0 = g.next_float();
-                LightSample ls;
-                if (!ts.sample_light(ref, us, vec2(u0, g.next_float()), ls)) return std::nullopt;
-                EXPECT_TRUE(std::isinf(ls.dist));
-                EXPECT_NEAR(ls.pdf, ts.light_pdf_escape(ref, ls.wi), 1e-4 * ls.pdf);
-                return ls.wi;
-            },
-            [&](vec3 w) { return double(ts.light_pdf_escape(ref, w)); }, o);
-        EXPECT_TRUE(r.passed) << r.message;
-        EXPECT_NEAR(r.pdf_integral, 1.0, 1e-2) << r.message;
-    }
+    for (const vec3 ref : {vec3(0.4f, 0.45f, 0.55f), vec3(1.5f, 0.2f, 0.5f)})
+        test::expect_environment_samples_follow_pdf(ts, ref);
 }
 
 test::PixelStats render_stats(std::shared_ptr<const Scene> scene, uint32_t seed, int spp) {

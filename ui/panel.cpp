@@ -174,6 +174,10 @@ void Panel::estimator(ViewState& state, PanelActions& act) {
     log_widget("light_sampling");
     ImGui::BeginDisabled(!s.light_sampling);
     act.settings_changed |= ImGui::Checkbox("MIS", &s.mis);
+    act.settings_changed |= ImGui::Checkbox("sky guide", &s.sky_guide);
+    log_widget("sky_guide");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Aim the sky's light samples at the directions a short training pass found unoccluded");
     ImGui::EndDisabled();
     act.settings_changed |= ImGui::Checkbox("Russian roulette", &s.russian_roulette);
     log_widget("rr");

@@ -9,6 +9,7 @@
 
 #include "core/renderer.h"
 #include "core/scene_file.h"
+#include "tests/support/chi2.h"
 
 namespace pv::test {
 
@@ -143,6 +144,25 @@ void expect_finite_and_lit(const Image& img) {
         sum += v;
     }
     EXPECT_GT(sum, 0.0);
+}
+
+void expect_environment_samples_follow_pdf(const TraceableScene& ts, vec3 ref) {
+    Chi2Options o;
+    o.sample_count = 300000;
+    o.test_count = 2;
+    const auto r = chi2_test(
+        [&](Pcg32& g) -> std::optional<vec3> {
+            const float us = g.next_float();
+            const float u0 = g.next_float();
+            LightSample ls;
+            if (!ts.sample_light(ref, us, vec2(u0, g.next_float()), ls)) return std::nullopt;
+            EXPECT_TRUE(std::isinf(ls.dist));
+            EXPECT_NEAR(ls.pdf, ts.light_pdf_escape(ref, ls.wi), 1e-4 * ls.pdf);
+            return ls.wi;
+        },
+        [&](vec3 w) { return double(ts.light_pdf_escape(ref, w)); }, o);
+    EXPECT_TRUE(r.passed) << r.message;
+    EXPECT_NEAR(r.pdf_integral, 1.0, 1e-2) << r.message;
 }
 
 }  // namespace pv::test

@@ -49,6 +49,10 @@ void expect_finite_and_lit(const Image& img);
 Film render_with_renderer(std::shared_ptr<const Scene> scene, const CameraDesc& camera, const RenderSettings& settings,
                           int width, int height, int spp, int threads = 2, uint64_t* dropped = nullptr);
 
+// The environment's light samples from `ref` (sun, sky and any mixture with portals or a sky guide) follow
+// light_pdf_escape (chi-square), each sample's own pdf is that value, and it integrates to 1 over the sphere.
+void expect_environment_samples_follow_pdf(const TraceableScene& ts, vec3 ref);
+
 // The built-in Cornell box, loaded once per process.
 std::shared_ptr<const Scene> cornell_box();
 
