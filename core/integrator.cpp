@@ -6,9 +6,6 @@
 namespace pv {
 namespace {
 
-// Russian roulette spares paths whose throughput is at least this (see the roulette block in trace_path).
-constexpr float kRouletteThroughput = 0.5f;
-
 // Power heuristic with beta = 2 (Veach 1997, sec. 9.2.4), written to stay finite for huge pdfs.
 inline float power_heuristic(float pa, float pb) {
     if (!(pa > 0.f)) return 0.f;
@@ -111,25 +108,8 @@ vec3 trace_path_with(const TraceableScene& ts, const RenderSettings& settings, R
             return *bsdf;
         };
 
-        // Shading frame. Reflection lobes see the side wo is on; the dielectric needs the true orientation.
-        const bool is_glass = std::holds_alternative<Dielectric>(mat.bsdf);
-        vec3 ng = sf.ng, ns = sf.ns;
-        if (!is_glass && !front) {
-            ng = -ng;
-            ns = -ns;
-        }
-        // Veach's rule: a direction must be on the same side of both normals; where the shading normal
-        // would make wo back-facing, shade with the geometric normal instead.
-        if ((glm::dot(wo_world, ns) > 0.f) != (glm::dot(wo_world, ng) > 0.f)) ns = ng;
-        // Inside a dielectric, where the interpolated normal gives total internal reflection, the facet's own
-        // normal. Interpolated normals are not reciprocal for glass: reflection about them keeps |p x d| about the
-        // centre of a smooth-shaded sphere, so a path that once reflects totally inside can circle forever (0.9%
-        // of the paths into a coarse sphere reached the depth cap). The facets make a true polyhedron, which light
-        // leaves again (reversibility); refraction out and everything outside keep the smooth normals.
-        if (is_glass && !front && ns != ng) {
-            const float eta = std::get<Dielectric>(mat.bsdf).eta, cos_o = glm::dot(wo_world, ns);
-            if ((1.f - cos_o * cos_o) * eta * eta >= 1.f) ns = ng;
-        }
+        // Shading frame (core/surface.h).
+        const auto [ng, ns] = shading_normals(sf, wo_world, front, mat.bsdf);
         const Frame frame(ns);
         const vec3 wo = frame.to_local(wo_world);
 

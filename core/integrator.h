@@ -52,6 +52,10 @@ struct PathCounters {
 constexpr uint32_t kCameraDims = 2;
 constexpr uint32_t kBounceDims = 5;
 
+// Russian roulette spares paths whose throughput max(beta) x eta^2 is at least this (the roulette block in
+// trace_path; every path walker that plays roulette, such as the sky guide's training, uses the same rule).
+constexpr float kRouletteThroughput = 0.5f;
+
 // Starts sample `index` of pixel (x, y) and returns its camera ray: the film point jittered uniformly over the
 // pixel (a box filter; its centre with pixel_centre) and, for a thin lens, the lens point. Every renderer (and test)
 // draws camera rays through this one function.

@@ -79,107 +79,103 @@ bool sky_guide_applies(const TraceableScene& ts, const RenderSettings& settings)
 
 namespace {
 
-constexpr int kTrainDepth = 5;     // vertices per training path at most
-constexpr int kShadowRays = 2;     // sky shadow rays per non-delta vertex
-constexpr int kPathsPerCell = 2;   // per training grid cell
-constexpr int kChunkRows = 16;     // grid rows per chunk (one histogram each)
-constexpr float kRoulette = 0.5f;  // as the integrator's
+constexpr int kTrainDepth = 5;    // vertices per training path at most
+constexpr int kShadowRays = 2;    // sky shadow rays per non-delta vertex
+constexpr int kPathsPerCell = 2;  // per training grid cell
+constexpr int kChunkRows = 16;    // grid rows per chunk (one histogram each)
 
-// One training iteration: the histogram of luminance(beta f |cos| Le_sky V) / pdf over the bins, summed over every
-// path, per cell of `grid` (the vertex's). Directions come from the sky's own sampling.
-std::vector<double> train_iteration(const TraceableScene& ts, const Camera& camera, int gw, int gh, uint64_t seed,
-                                    const SkyGuideGrid& grid) {
-    const size_t bins = size_t(grid.cells()) * size_t(SkyGuide::kBins);
+// One training path from camera ray `ray`: at each non-delta vertex, kShadowRays shadow rays toward directions from
+// the sky's own sampling add luminance(beta f |cos| Le_sky) / pdf_sky of the unoccluded ones to `h` (the vertex's
+// cell of `grid`, the direction's bin). The path continues by BSDF sampling, with the integrator's shading normals
+// and roulette.
+void train_path(const TraceableScene& ts, const SkyGuideGrid& grid, Ray ray, Pcg32& rng, std::vector<double>& h) {
     const Scene& scene = ts.scene();
     const Environment& env = ts.environment();
     const float p_sun = env.sun_probability();
+    auto u1 = [&] { return rng.next_float(); };
+    auto u2 = [&] {
+        const float a = rng.next_float();
+        return vec2(a, rng.next_float());
+    };
+    vec3 beta(1.f);
+    for (int depth = 0; depth < kTrainDepth; ++depth) {
+        Hit hit;
+        if (!ts.intersect(ray, hit)) return;
+        const SurfacePoint sf = surface_point(scene, hit);
+        const Material& mat = ts.material(hit.prim);
+        Bsdf bsdf = mat.bsdf;
+        if (mat.base_color_texture != kNoIndex)
+            set_base_color(bsdf,
+                           vec3(scene.textures[mat.base_color_texture].lookup(scene.uv_at(hit.prim, hit.u, hit.v))));
+        const vec3 wo_world = -ray.d;
+        const auto [ng, ns] = shading_normals(sf, wo_world, glm::dot(wo_world, sf.ng) > 0.f, mat.bsdf);
+        const Frame frame(ns);
+        const vec3 wo = frame.to_local(wo_world);
+        auto origin_toward = [&sf](vec3 w) {
+            return offset_ray_origin(sf.p, glm::dot(w, sf.ng) > 0.f ? sf.ng : -sf.ng, sf.p_error);
+        };
+        if (!is_delta(bsdf)) {
+            const size_t cell = size_t(grid.cell(sf.p));
+            for (int k = 0; k < kShadowRays; ++k) {
+                // The sky's part of the environment's sampling (u.x past the sun's share).
+                const vec2 u = u2();
+                const std::optional<EnvironmentSample> es =
+                    env.sample(vec2(std::min(p_sun + u.x * (1.f - p_sun), kOneMinusEpsilon), u.y));
+                if (!es) continue;
+                const float pdf = env.pdf_sky(es->wi);
+                const vec3 wi = frame.to_local(es->wi);
+                if (!(pdf > 0.f) || (glm::dot(es->wi, ng) > 0.f) != (wi.z > 0.f)) continue;
+                const float value = luminance(beta * eval(bsdf, wo, wi) * env.eval_sky(es->wi)) * std::fabs(wi.z) / pdf;
+                if (!(value > 0.f) || !std::isfinite(value)) continue;
+                Ray shadow;
+                shadow.o = origin_toward(es->wi);
+                shadow.d = es->wi;
+                shadow.tmax = std::numeric_limits<float>::infinity();
+                if (ts.occluded(shadow)) continue;
+                h[cell * size_t(SkyGuide::kBins) + size_t(SkyGuide::bin(es->wi))] +=
+                    double(value) / double(kShadowRays);
+            }
+        }
+        const auto bs = sample(bsdf, wo, u1(), u2());
+        if (!bs) return;
+        const vec3 wi_world = frame.to_world(bs->wi);
+        const float cos_g = glm::dot(wi_world, ng);
+        if ((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) return;
+        beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
+        if (!is_finite(beta) || is_black(beta)) return;
+        const float m = max_component(beta);
+        if (depth >= 1 && m < kRouletteThroughput) {
+            if (u1() * kRouletteThroughput >= m) return;
+            beta *= kRouletteThroughput / m;
+        }
+        ray.o = origin_toward(wi_world);
+        ray.d = wi_world;
+        ray.tmax = std::numeric_limits<float>::infinity();
+    }
+}
+
+// One training iteration: the histogram of luminance(beta f |cos| Le_sky V) / pdf over the bins, summed over every
+// path, per cell of `grid` (the vertex's). kPathsPerCell paths per cell of a gw x gh grid over the film.
+std::vector<double> train_iteration(const TraceableScene& ts, const Camera& camera, int gw, int gh, uint64_t seed,
+                                    const SkyGuideGrid& grid) {
+    const size_t bins = size_t(grid.cells()) * size_t(SkyGuide::kBins);
     const int chunks = (gh + kChunkRows - 1) / kChunkRows;
-    std::vector<std::vector<double>> hist;
-    hist.resize(size_t(chunks));
-    const float sx = float(camera.width()) / float(gw), sy = float(camera.height()) / float(gh);
+    std::vector<std::vector<double>> hist(size_t(chunks), std::vector<double>(bins, 0.0));
+    const vec2 cell_size(float(camera.width()) / float(gw), float(camera.height()) / float(gh));
     parallel_for_range(0, chunks, [&](const tbb::blocked_range<int>& range) {
         enable_ftz_daz();
-        for (int chunk = range.begin(); chunk != range.end(); ++chunk) {
-            std::vector<double>& h = hist[size_t(chunk)];
-            h.assign(bins, 0.0);
+        for (int chunk = range.begin(); chunk != range.end(); ++chunk)
             for (int gy = chunk * kChunkRows; gy < std::min(gh, (chunk + 1) * kChunkRows); ++gy)
                 for (int gx = 0; gx < gw; ++gx)
                     for (int s = 0; s < kPathsPerCell; ++s) {
-                        Pcg32 rng;
                         const uint64_t key = hash_combine(hash_combine(seed, uint64_t(gx)), uint64_t(gy));
+                        Pcg32 rng;
                         rng.seed(hash_combine(key, uint64_t(s)), key);
-                        auto u1 = [&] { return rng.next_float(); };
-                        auto u2 = [&] {
-                            const float a = rng.next_float();
-                            return vec2(a, rng.next_float());
-                        };
-                        const vec2 film = (vec2(float(gx), float(gy)) + u2()) * vec2(sx, sy);
-                        Ray ray = camera.generate(film, u2());
-                        vec3 beta(1.f);
-                        for (int depth = 0; depth < kTrainDepth; ++depth) {
-                            Hit hit;
-                            if (!ts.intersect(ray, hit)) break;
-                            const SurfacePoint sf = surface_point(scene, hit);
-                            const Material& mat = ts.material(hit.prim);
-                            Bsdf bsdf = mat.bsdf;
-                            if (mat.base_color_texture != kNoIndex)
-                                set_base_color(bsdf, vec3(scene.textures[mat.base_color_texture].lookup(
-                                                         scene.uv_at(hit.prim, hit.u, hit.v))));
-                            const vec3 wo_world = -ray.d;
-                            const bool front = glm::dot(wo_world, sf.ng) > 0.f;
-                            const bool is_glass = std::holds_alternative<Dielectric>(bsdf);
-                            vec3 ng = sf.ng, ns = sf.ns;
-                            if (!is_glass && !front) {
-                                ng = -ng;
-                                ns = -ns;
-                            }
-                            if ((glm::dot(wo_world, ns) > 0.f) != (glm::dot(wo_world, ng) > 0.f)) ns = ng;
-                            const Frame frame(ns);
-                            const vec3 wo = frame.to_local(wo_world);
-                            if (!is_delta(bsdf)) {
-                                const int cell = grid.cell(sf.p);
-                                for (int k = 0; k < kShadowRays; ++k) {
-                                    // The sky's part of the environment's sampling (u.x past the sun's share).
-                                    const vec2 u = u2();
-                                    const vec2 us(std::min(p_sun + u.x * (1.f - p_sun), kOneMinusEpsilon), u.y);
-                                    const std::optional<EnvironmentSample> es = env.sample(us);
-                                    if (!es) continue;
-                                    const vec3 wi_world = es->wi;
-                                    const float pdf = env.pdf_sky(wi_world);
-                                    const vec3 wi = frame.to_local(wi_world);
-                                    if (!(pdf > 0.f) || (glm::dot(wi_world, ng) > 0.f) != (wi.z > 0.f)) continue;
-                                    const float value = luminance(beta * eval(bsdf, wo, wi) * env.eval_sky(wi_world)) *
-                                                        std::fabs(wi.z) / pdf;
-                                    if (!(value > 0.f) || !std::isfinite(value)) continue;
-                                    Ray shadow;
-                                    shadow.o = offset_ray_origin(sf.p, glm::dot(wi_world, sf.ng) > 0.f ? sf.ng : -sf.ng,
-                                                                 sf.p_error);
-                                    shadow.d = wi_world;
-                                    shadow.tmax = std::numeric_limits<float>::infinity();
-                                    if (ts.occluded(shadow)) continue;
-                                    h[size_t(cell) * size_t(SkyGuide::kBins) + size_t(SkyGuide::bin(wi_world))] +=
-                                        double(value) / double(kShadowRays);
-                                }
-                            }
-                            const auto bs = sample(bsdf, wo, u1(), u2());
-                            if (!bs) break;
-                            const vec3 wi_world = frame.to_world(bs->wi);
-                            const float cos_g = glm::dot(wi_world, ng);
-                            if ((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) break;
-                            beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
-                            if (!is_finite(beta) || is_black(beta)) break;
-                            const float m = max_component(beta);
-                            if (depth >= 1 && m < kRoulette) {
-                                if (u1() * kRoulette >= m) break;
-                                beta *= kRoulette / m;
-                            }
-                            ray.o =
-                                offset_ray_origin(sf.p, glm::dot(wi_world, sf.ng) > 0.f ? sf.ng : -sf.ng, sf.p_error);
-                            ray.d = wi_world;
-                            ray.tmax = std::numeric_limits<float>::infinity();
-                        }
+                        const float fx = rng.next_float(), fy = rng.next_float();
+                        const float lx = rng.next_float(), ly = rng.next_float();
+                        const vec2 film = (vec2(float(gx), float(gy)) + vec2(fx, fy)) * cell_size;
+                        train_path(ts, grid, camera.generate(film, vec2(lx, ly)), rng, hist[size_t(chunk)]);
                     }
-        }
     });
     std::vector<double> total(bins, 0.0);
     for (const std::vector<double>& h : hist)

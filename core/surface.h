@@ -73,4 +73,33 @@ struct SurfacePoint {
     return surface_point(s, hit, r.p[0], r.p[1], r.p[2]);
 }
 
+// The normals a path vertex shades with, for a ray arriving from wo_world (front: wo_world on sf.ng's side): the
+// integrator's and every other path walker's (the sky guide's training) one rule. Reflection lobes see the side wo
+// is on; the dielectric (`bsdf`) needs the true orientation.
+struct ShadingNormals {
+    vec3 ng, ns;
+};
+[[gnu::always_inline]] inline ShadingNormals shading_normals(const SurfacePoint& sf, vec3 wo_world, bool front,
+                                                             const Bsdf& bsdf) {
+    const bool is_glass = std::holds_alternative<Dielectric>(bsdf);
+    vec3 ng = sf.ng, ns = sf.ns;
+    if (!is_glass && !front) {
+        ng = -ng;
+        ns = -ns;
+    }
+    // Veach's rule: a direction must be on the same side of both normals; where the shading normal
+    // would make wo back-facing, shade with the geometric normal instead.
+    if ((glm::dot(wo_world, ns) > 0.f) != (glm::dot(wo_world, ng) > 0.f)) ns = ng;
+    // Inside a dielectric, where the interpolated normal gives total internal reflection, the facet's own
+    // normal. Interpolated normals are not reciprocal for glass: reflection about them keeps |p x d| about the
+    // centre of a smooth-shaded sphere, so a path that once reflects totally inside can circle forever (0.9%
+    // of the paths into a coarse sphere reached the depth cap). The facets make a true polyhedron, which light
+    // leaves again (reversibility); refraction out and everything outside keep the smooth normals.
+    if (is_glass && !front && ns != ng) {
+        const float eta = std::get<Dielectric>(bsdf).eta, cos_o = glm::dot(wo_world, ns);
+        if ((1.f - cos_o * cos_o) * eta * eta >= 1.f) ns = ng;
+    }
+    return {ng, ns};
+}
+
 }  // namespace pv

@@ -112,17 +112,16 @@ bool TraceableScene::sample_environment_mixed(vec3 ref, float u_select, vec2 u, 
     vec3 wi, le;
     float pdf;
     if (u.x >= p_sun && u_select < q) {
+        // A direction toward a portal or from the guide; its radiance and sky pdf from one texel search.
         const vec2 up(std::min((u.x - p_sun) / (1.f - p_sun), 0x1.fffffep-1f), u.y);
         if (m_p_portal > 0.f) {
             if (!sample_portal(ref, u_select / q, up, wi)) return false;
-            le = m_environment.eval(wi);
-            pdf = m_p_env * environment_pdf_mixed(ref, wi);
         } else {
             wi = m_sky_guide->sample(ref, u_select / q, up);
-            float pdf_sky;
-            le = m_environment.eval_and_pdf_sky(wi, &pdf_sky);
-            pdf = m_p_env * mixture_pdf(p_sun, m_environment.pdf_sun(wi), q, pdf_sky, m_sky_guide->pdf(ref, wi));
         }
+        float pdf_sky;
+        le = m_environment.eval_and_pdf_sky(wi, &pdf_sky);
+        pdf = m_p_env * mixture_pdf(p_sun, m_environment.pdf_sun(wi), q, pdf_sky, mix_pdf(ref, wi));
     } else {
         const std::optional<EnvironmentSample> es = m_environment.sample(u);
         if (!es) return false;
