@@ -122,6 +122,10 @@ void run(RenderOptions& o) {
             throw Error("--resume " + o.resume + ": the part ends at sample " +
                         std::to_string(resumed->ranges.back().end()) + "; no room for more sample indices");
     }
+    // A partial render samples every pixel at each of its indices, so that its parts merge into what one `render
+    // --adaptive off` gives; --adaptive on is honoured when asked for (each pixel then takes indices from the start of
+    // the part's range: the parts still merge into a valid image, not a bit-identical one).
+    if (samples && !o.cmd->get_option("--adaptive")->count()) o.common.adaptive.allocate = false;
     const std::string path = scene_path(o.common);
     for (const std::string& out : o.outs) {
         const std::string ext = std::filesystem::path(out).extension().string();
@@ -280,6 +284,9 @@ void run(RenderOptions& o) {
         renderer.settings_as_rendered().describe().c_str(), written.c_str());
     if (st.guide_seconds > 0.0)
         std::printf("pathview: sky guide trained in %.3f s (part of the first pass)\n", st.guide_seconds);
+    if (renderer.adaptive_settings().allocate && !renderer.adaptive_settings().enabled())
+        std::printf("pathview: adaptive sampling: %.1f samples per pixel on average (%u passes)\n",
+                    renderer.film().mean_count(), st.spp);
     if (renderer.adaptive_settings().enabled())
         std::printf(
             "pathview: noise threshold %g: %.1f%% of pixels still active, %.1f samples per pixel on average%s\n",

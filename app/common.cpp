@@ -144,6 +144,12 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                              {"ind", int(SamplerKind::Independent)},
                              {"sobol", int(SamplerKind::Sobol)}}))
         ->default_str(sampler_name(o.settings.sampler));
+    cmd.add_option("--adaptive", o.adaptive.allocate,
+                   "Adaptive sampling: after --min-spp, each region takes samples in proportion to its relative error "
+                   "per sample (the least mean relMSE for the time; --spp counts the passes, which the noisiest "
+                   "pixels all take): on|off")
+        ->transform(kOnOff)
+        ->default_str(on_off(o.adaptive.allocate));
     cmd.add_option("--noise-threshold", o.adaptive.noise_threshold,
                    "Adaptive sampling: a pixel whose relative error (from the two half buffers, averaged over 5x5 "
                    "pixels) is below this stops taking samples, e.g. 0.02; 0: off")

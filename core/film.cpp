@@ -112,4 +112,10 @@ double Film::estimated_rel_mse() const {
     return count ? acc / double(count) : 0.0;
 }
 
+double Film::mean_count() const {
+    double acc = 0.0;
+    for (const FilmPixel& px : m_pixels) acc += double(px.n);
+    return m_pixels.empty() ? 0.0 : acc / double(m_pixels.size());
+}
+
 }  // namespace pv

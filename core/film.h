@@ -85,6 +85,8 @@ public:
     // Reference-free estimate of the relative MSE of the mean image: from the even and odd half-buffer means
     // A and B, the error of their average is estimated by ((A - B)/2)^2, relative to (mean^2 + 0.01).
     double estimated_rel_mse() const;
+    // Accepted samples per pixel, averaged over the image.
+    double mean_count() const;
     // What the viewer shows, in one pass over the pixels: the mean RGB (3 floats a pixel), each pixel's relative
     // RMS error (the square root of pixel_rel_mse(), 0 while a half buffer is empty) and accepted sample count.
     // Resizes the vectors; returns estimated_rel_mse().

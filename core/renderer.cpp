@@ -84,10 +84,14 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const int w = m_film.width(), h = m_film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
     const uint32_t index = m_next_sample;
+    if (m_stats.spp == 0) m_first_sample = m_next_sample;
     const TraceableScene& ts = *m_traceable;
     std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
     std::atomic<bool> cancelled{false};
-    const uint8_t* active = m_adaptive.enabled() ? m_mask.mask().data() : nullptr;  // nothing: every pixel
+    // Allocation: pixels take the samples of their own count (core/adaptive.h); otherwise the pass's index.
+    const bool own_index = m_adaptive.allocate;
+    if (own_index) m_mask.prepare_pass(m_stats.spp + 1, m_adaptive);
+    const uint8_t* active = m_adaptive.masks() ? m_mask.mask().data() : nullptr;  // nothing: every pixel
 
     const char fork_edge = 0, join_edge = 0;  // addresses for TSan's happens-before edges (core/tsan.h)
     tsan_release(&fork_edge);
@@ -108,9 +112,13 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                     for (int x = x0; x < x1; ++x) {
                         if (active && !active[size_t(y) * size_t(w) + size_t(x)]) continue;
                         m_film.prefetch(x, y);
-                        const Ray ray = camera_ray(m_camera, sampler, x, y, index);
+                        uint32_t sample = index;
+                        if (own_index) sample = m_first_sample + m_mask.next_index(x, y)++;
+                        const uint64_t rays_before = tt.counters.rays + tt.counters.shadow_rays;
+                        const Ray ray = camera_ray(m_camera, sampler, x, y, sample);
                         const vec3 L = trace_path(ts, m_settings, ray, sampler, tt.counters);
-                        if (!m_film.add(x, y, index, L)) tt.dropped++;
+                        if (own_index) m_mask.add_rays(x, y, tt.counters.rays + tt.counters.shadow_rays - rays_before);
+                        if (!m_film.add(x, y, sample, L)) tt.dropped++;
                     }
             }
         });
@@ -160,6 +168,11 @@ Metadata render_metadata(const Renderer& r) {
         m["pathview:noise_threshold"] = std::to_string(r.adaptive_settings().noise_threshold);
         m["pathview:min_spp"] = std::to_string(r.adaptive_settings().min_spp);
         m["pathview:active_fraction"] = std::to_string(r.adaptive_mask().active_fraction());
+    }
+    if (r.adaptive_settings().allocate) {
+        m["pathview:adaptive"] = "on";
+        m["pathview:min_spp"] = std::to_string(r.adaptive_settings().min_spp);
+        m["pathview:mean_spp"] = std::to_string(r.film().mean_count());
     }
     return m;
 }

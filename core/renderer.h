@@ -83,6 +83,7 @@ private:
     AdaptiveMask m_mask;
     RenderStats m_stats;
     uint32_t m_next_sample = 0;
+    uint32_t m_first_sample = 0;   // m_next_sample at the accumulation's first pass
     bool m_guide_pending = false;  // train the sky guide in the next pass
     int m_threads = 1;
     struct Pool;

@@ -1,5 +1,9 @@
-// tests/test_adaptive.cpp: adaptive sampling and the stratified sample-count schedule (core/adaptive.h, issue 13).
+// tests/test_adaptive.cpp: adaptive sampling (the noise threshold, and allocation: AdaptiveSettings::allocate) and
+// the stratified sample-count schedule (core/adaptive.h, issue 13).
 #include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
 
 #include "core/adaptive.h"
 #include "core/renderer.h"
@@ -101,6 +105,129 @@ TEST(Adaptive, BiasBelowTheNoiseOnTheCornellBox) {
     const double z = (adaptive.mean - plain.mean) /
                      std::sqrt(adaptive.variance() / double(adaptive.n) + plain.variance() / double(plain.n));
     EXPECT_LT(std::fabs(z), 3.29) << adaptive.mean << " vs " << plain.mean;
+}
+
+// Allocation: each pixel takes samples in proportion to its relative error per sample over the root of its cost.
+AdaptiveSettings allocating(uint32_t min_spp) {
+    AdaptiveSettings a;
+    a.allocate = true;
+    a.min_spp = min_spp;
+    return a;
+}
+
+// The noiseless sky settles at the floor rate, exactly: after P passes a pixel of weight w has ceil(P w) samples.
+// The noisy quad keeps the full rate, and both stay unbiased (the sky exactly 1, the quad 0.7 within its noise).
+TEST(AdaptiveAllocation, NoiselessPixelsTakeTheFloorRateNoisyOnesEveryPass) {
+    HalfScene hs;
+    Renderer r(hs.scene, 2);
+    r.set_adaptive(allocating(8));
+    RenderSettings s;
+    s.sampler = SamplerKind::Independent;
+    const int w = 32, h = 16, passes = 64;
+    r.restart(hs.camera, s, w, h);
+    for (int i = 0; i < passes; ++i) r.render_pass();
+    const uint32_t floor_count = uint32_t(std::ceil(double(passes) * double(kAllocationFloor)));
+    uint32_t quad_min = ~0u, image_max = 0;
+    double quad_sum = 0.0, quad_var = 0.0;
+    int quad_pixels = 0;
+    const test::PixelStats st = test::PixelStats::from_film(r.film());
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const FilmPixel& px = r.film().pixel(x, y);
+            image_max = std::max(image_max, px.n);
+            if (x >= w / 2 + 3) {  // the sky beyond the 5x5 filter's reach
+                EXPECT_EQ(px.n, floor_count) << x << "," << y;
+                EXPECT_FLOAT_EQ(r.film().mean().at(x, y).x, 1.f);
+                EXPECT_FLOAT_EQ(r.adaptive_mask().weight(x, y), kAllocationFloor);
+            }
+            if (x >= 3 && x < w / 2 - 3 && y >= 3 && y < h - 3) {  // the quad, away from its edges
+                quad_min = std::min(quad_min, px.n);
+                const size_t i = (size_t(y) * size_t(w) + size_t(x)) * 3;
+                quad_sum += st.mean[i];
+                quad_var += st.var_mean[i];
+                ++quad_pixels;
+            }
+        }
+    // The noisiest pixels (the quad's edge) at nearly the full rate (a pixel whose weight rises at a checkpoint does
+    // not catch up on the passes it skipped); the whole quad well above the sky (its weights are estimates of one
+    // relative error, each from 25 pixels' half buffers).
+    EXPECT_GE(image_max, uint32_t(passes) - 8);
+    EXPECT_GT(quad_min, 2 * floor_count);
+    const double mean = quad_sum / quad_pixels, se = std::sqrt(quad_var) / quad_pixels;
+    EXPECT_LT(std::fabs(mean - 0.7), 4.0 * se + 1e-6) << mean << " +- " << se;
+    EXPECT_LT(r.film().mean_count(), 0.75 * passes);  // the sky half at a quarter
+}
+
+// A pixel's samples are the indices 0 .. n-1 of its own count: its sums are those a uniform render of n passes
+// gives it, bit for bit (so Sobol's per-pixel stratification holds under any allocation).
+TEST(AdaptiveAllocation, EachPixelTakesTheFirstIndicesOfItsOwnCount) {
+    const auto scene = test::cornell_box();
+    RenderSettings s;
+    s.seed = 5;
+    const int w = 20, h = 16;
+    Renderer r(scene, 2);
+    r.set_adaptive(allocating(4));
+    r.restart(scene->camera, s, w, h);
+    for (int i = 0; i < 40; ++i) r.render_pass();
+    std::map<uint32_t, Film> uniform;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) uniform.emplace(r.film().pixel(x, y).n, Film());
+    ASSERT_GE(uniform.size(), 3u) << "the allocation gave every pixel the same count";
+    for (auto& [n, film] : uniform) film = test::render_with_renderer(scene, scene->camera, s, w, h, int(n));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const FilmPixel& p = r.film().pixel(x, y);
+            const FilmPixel& q = uniform.at(p.n).pixel(x, y);
+            ASSERT_EQ(p.n, q.n);
+            ASSERT_EQ(p.n_even, q.n_even) << x << "," << y;
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_EQ(std::memcmp(&p.sum[c], &q.sum[c], sizeof(double)), 0) << x << "," << y << " n " << p.n;
+                ASSERT_EQ(std::memcmp(&p.sum_even[c], &q.sum_even[c], sizeof(double)), 0) << x << "," << y;
+            }
+        }
+}
+
+// The weights come from the samples, which biases the estimate slightly (as stopping does). The bias must stay
+// below the noise: the total mean of allocating renders over 8 seeds agrees with uniform ones within |z| < 3.29,
+// on the Cornell box (independent samples, for the i.i.d. variance).
+TEST(AdaptiveAllocation, BiasBelowTheNoiseOnTheCornellBox) {
+    const auto scene = test::cornell_box();
+    const int w = 24, h = 24;
+    test::Moments allocated, plain;
+    for (uint32_t seed = 0; seed < 8; ++seed) {
+        RenderSettings s;
+        s.sampler = SamplerKind::Independent;
+        s.seed = 3000 + seed;
+        Renderer r(scene, 2);
+        r.set_adaptive(allocating(8));
+        r.restart(scene->camera, s, w, h);
+        for (int i = 0; i < 128; ++i) r.render_pass();
+        EXPECT_LT(r.film().mean_count(), 120.0);  // the allocation did something
+        allocated.add(test::PixelStats::from_film(r.film()).total_mean());
+        s.seed = 4000 + seed;
+        plain.add(
+            test::PixelStats::from_film(test::render_with_renderer(scene, scene->camera, s, w, h, 96)).total_mean());
+    }
+    const double z = (allocated.mean - plain.mean) /
+                     std::sqrt(allocated.variance() / double(allocated.n) + plain.variance() / double(plain.n));
+    EXPECT_LT(std::fabs(z), 3.29) << allocated.mean << " vs " << plain.mean;
+}
+
+// Off, nothing changes: the film equals a render without adaptive settings, bit for bit.
+TEST(AdaptiveAllocation, OffLeavesTheRenderAsItWas) {
+    const auto scene = test::cornell_box();
+    RenderSettings s;
+    Renderer r(scene, 2);
+    AdaptiveSettings a = allocating(4);
+    a.allocate = false;
+    r.set_adaptive(a);
+    r.restart(scene->camera, s, 16, 12);
+    for (int i = 0; i < 24; ++i) r.render_pass();
+    const Film plain = test::render_with_renderer(scene, scene->camera, s, 16, 12, 24);
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 16; ++x)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ(std::memcmp(&r.film().pixel(x, y).sum[c], &plain.pixel(x, y).sum[c], sizeof(double)), 0);
 }
 
 }  // namespace

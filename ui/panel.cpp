@@ -131,6 +131,18 @@ void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& ac
         state.target_seconds = std::max(state.target_seconds, 0.f);
         act.control_changed = true;
     }
+    if (ImGui::Checkbox("adaptive sampling", &state.adaptive.allocate)) act.settings_changed = true;
+    log_widget("adaptive");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "After %u spp, each region takes samples in proportion to its relative error per sample over the root of\n"
+            "its cost in rays: the least mean relMSE for the time. 'spp' counts passes, which the noisiest pixels\n"
+            "all take; the sample-count view shows where they went.",
+            state.adaptive.min_spp);
+    if (state.adaptive.allocate && s.spp > 0 && s.width > 0 && s.height > 0) {
+        ImGui::SameLine();
+        ImGui::TextDisabled("%.1f samples per pixel on average", double(s.paths) / (double(s.width) * s.height));
+    }
     ImGui::SetNextItemWidth(100.f);
     if (ImGui::InputFloat("stop at noise threshold", &state.adaptive.noise_threshold, 0.005f, 0.05f, "%.3f")) {
         state.adaptive.noise_threshold = std::clamp(state.adaptive.noise_threshold, 0.f, 1.f);

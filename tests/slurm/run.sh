@@ -147,10 +147,10 @@ slurm_seconds=$(seconds $((t1 - t0)))
 scontrol show job -o | grep -o 'JobId=[0-9]* \(ArrayJobId=[0-9]* ArrayTaskId=[0-9]* \)\?JobName=[^ ]*\|SubmitTime=[^ ]*\|StartTime=[^ ]*\|EndTime=[^ ]*' |
   paste -d' ' - - - - | sed 's/^/test-slurm:   /'
 
-# The same render in one process on all cores.
+# The same render in one process on all cores, every pixel at every index as the shards (no adaptive sampling).
 t0=$(now_ms)
 # shellcheck disable=SC2086  # flags is a list
-"$pathview" render --spp "$spp" $flags -q -o "$T/work/single.exr" > /dev/null
+"$pathview" render --spp "$spp" --adaptive off $flags -q -o "$T/work/single.exr" > /dev/null
 t1=$(now_ms)
 single_seconds=$(seconds $((t1 - t0)))
 
