@@ -223,7 +223,8 @@ std::optional<EnvironmentSample> Environment::sample(vec2 u) const {
         s.wi = square_to_uniform_sphere(vec2(glm::min(us.x, kOneMinusEpsilon), us.y));
     } else {
         // The map: the sampled texel gives the radiance and the pdf directly (no search), so they match exactly.
-        const vec2 us(glm::min((u.x - m_p_sun) / (1.f - m_p_sun), kOneMinusEpsilon), u.y);
+        // Without a sun (m_p_sun = 0) the rescaling is the identity: skip its division (the same bits).
+        const vec2 us(glm::min(m_p_sun == 0.f ? u.x : (u.x - m_p_sun) / (1.f - m_p_sun), kOneMinusEpsilon), u.y);
         float pdf_uv = 0.f;
         size_t texel = 0;
         const vec2 uv = m_dist.sample(us, &pdf_uv, &texel);
