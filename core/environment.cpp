@@ -231,6 +231,13 @@ std::optional<EnvironmentSample> Environment::sample(vec2 u) const {
         s.wi = uv_to_direction(uv);
         const float sin_theta = std::sqrt(s.wi.x * s.wi.x + s.wi.z * s.wi.z);
         if (!(pdf_uv > 0.f) || !(sin_theta > 0.f)) return std::nullopt;
+        if (m_p_sun == 0.f) {
+            // No sun: the mixture below is 0 * 0 + 1 * pdf and 0 + radiance, these values exactly, without the call
+            // to eval_sun (whose vec3 came back through memory, a store-forwarding stall).
+            s.pdf = pdf_sky_texel(texel, sin_theta);
+            s.le = m_radiance[texel];
+            return s;
+        }
         s.pdf = m_p_sun * pdf_sun(s.wi) + (1.f - m_p_sun) * pdf_sky_texel(texel, sin_theta);
         s.le = eval_sun(s.wi) + m_radiance[texel];
         return s;
