@@ -149,6 +149,8 @@ Distribution2D::Distribution2D(const std::vector<float>& f, int width, int heigh
         build_alias_table(m_pdf.data() + y * w, w, m_conditional.data() + y * w);
     }
     m_marginal = Distribution1D(std::move(row_integrals));
+    m_one_column = w == 1 && std::all_of(m_conditional.begin(), m_conditional.end(),
+                                         [](const AliasSlot& s) { return s.q == 1.f && s.alias == 0; });
     // Joint density = conditional * marginal.
     for (size_t y = 0; y < h; ++y)
         for (size_t x = 0; x < w; ++x) m_pdf[y * w + x] *= m_marginal.pdf_cell(y);

@@ -40,9 +40,18 @@ inline size_t sample_alias_table(const AliasSlot* slots, size_t n, float u, floa
 }
 
 // (cell + offset) / n in [0,1), rounded once (in double) so the result stays inside its cell except within half
-// an ulp of x of the cell's upper edge.
-inline float cell_to_unit(size_t cell, float offset, size_t n) {
+// an ulp of x of the cell's upper edge. For n a power of two up to 2^24 (the default sky's 1 x 512) the same bits
+// in float without a division: float(cell) + offset is the sum rounded once to float, which is what the double sum
+// rounds to (it is exact unless offset has bits below 2^-53 of it, and those cannot reach a float rounding
+// midpoint, where offset's own ulp is at least 2^-47 of the sum), and scaling by 1/n is exact
+// (tests/test_environment_sampling.cpp compares the two).
+inline float cell_to_unit_reference(size_t cell, float offset, size_t n) {
     return std::min(float((double(cell) + double(offset)) / double(n)), kOneMinusEpsilon);
+}
+inline float cell_to_unit(size_t cell, float offset, size_t n) {
+    if ((n & (n - 1)) == 0 && n <= (size_t(1) << 24))
+        return std::min((float(cell) + offset) * (1.f / float(n)), kOneMinusEpsilon);
+    return cell_to_unit_reference(cell, offset, n);
 }
 
 // A discrete distribution over n items, sampled in O(1) through an alias table whose probabilities are exact:
@@ -119,6 +128,13 @@ public:
         size_t row = 0;
         const float y = m_marginal.sample(u.y, &pdf_y, &row);
         const size_t w = size_t(m_width);
+        if (m_one_column) {
+            // One cell a row, threshold 1: the alias table returns cell 0 and offset min(u.x / 1, 1 - eps), and
+            // cell_to_unit(0, offset, 1) is the offset: the same bits without the table or the divisions.
+            if (pdf) *pdf = m_pdf[row];
+            if (cell) *cell = row;
+            return vec2(std::min(u.x, kOneMinusEpsilon), y);
+        }
         const size_t col = sample_alias_table(m_conditional.data() + row * w, w, u.x, &offset_x);
         const size_t index = row * w + col;
         if (pdf) *pdf = m_pdf[index];
@@ -133,7 +149,8 @@ public:
 
 private:
     int m_width = 0, m_height = 0;
-    Distribution1D m_marginal;             // over rows
+    bool m_one_column = false;  // width 1 and every row's alias slot a threshold of 1 (sample() skips the table)
+    Distribution1D m_marginal;  // over rows
     std::vector<AliasSlot> m_conditional;  // one alias table over x per row, width slots each
     std::vector<float> m_pdf;              // joint density per texel: marginal * conditional
 };

@@ -223,13 +223,21 @@ std::optional<EnvironmentSample> Environment::sample(vec2 u) const {
         s.wi = square_to_uniform_sphere(vec2(glm::min(us.x, kOneMinusEpsilon), us.y));
     } else {
         // The map: the sampled texel gives the radiance and the pdf directly (no search), so they match exactly.
-        const vec2 us(glm::min((u.x - m_p_sun) / (1.f - m_p_sun), kOneMinusEpsilon), u.y);
+        // Without a sun (m_p_sun = 0) the rescaling is the identity: skip its division (the same bits).
+        const vec2 us(glm::min(m_p_sun == 0.f ? u.x : (u.x - m_p_sun) / (1.f - m_p_sun), kOneMinusEpsilon), u.y);
         float pdf_uv = 0.f;
         size_t texel = 0;
         const vec2 uv = m_dist.sample(us, &pdf_uv, &texel);
         s.wi = uv_to_direction(uv);
         const float sin_theta = std::sqrt(s.wi.x * s.wi.x + s.wi.z * s.wi.z);
         if (!(pdf_uv > 0.f) || !(sin_theta > 0.f)) return std::nullopt;
+        if (m_p_sun == 0.f) {
+            // No sun: the mixture below is 0 * 0 + 1 * pdf and 0 + radiance, these values exactly, without the call
+            // to eval_sun (whose vec3 came back through memory, a store-forwarding stall).
+            s.pdf = pdf_sky_texel(texel, sin_theta);
+            s.le = m_radiance[texel];
+            return s;
+        }
         s.pdf = m_p_sun * pdf_sun(s.wi) + (1.f - m_p_sun) * pdf_sky_texel(texel, sin_theta);
         s.le = eval_sun(s.wi) + m_radiance[texel];
         return s;

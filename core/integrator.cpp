@@ -42,6 +42,13 @@ vec3 trace_path_with(const TraceableScene& ts, const RenderSettings& settings, R
     const bool nee = settings.light_sampling && ts.has_lights();
     const bool mis = nee && settings.mis;
     const bool select_draw = ts.light_selection_draw();  // false when the environment is the only light
+    // The environment the only light, sampled without portals or guide (what !select_draw means): its sample does
+    // not depend on the vertex, so it is drawn as soon as the ray has hit, while the hit triangle's record (just
+    // prefetched) is still on its way from memory: about a hundred nanoseconds of arithmetic that the record's miss
+    // would otherwise wait through. The Sobol sampler draws a dimension as a function of it alone, so drawing
+    // u_light for a vertex that then takes no light sample (a delta BSDF) changes nothing else; the independent
+    // sampler draws in stream order and keeps the draw where it was.
+    const bool early_sky = nee && !select_draw && sampler.kind() == SamplerKind::Sobol;
 
     vec3 L(0.f), beta(1.f);
     bool specular_bounce = true;  // the camera "bounce" counts like a delta one: emission is always added
@@ -68,6 +75,16 @@ vec3 trace_path_with(const TraceableScene& ts, const RenderSettings& settings, R
         // The hit triangle's vertices, uvs and material from its packed record (one cache line) when there is one.
         const TriangleRecord* record = kPacked ? ts.triangle_record(hit.prim) : nullptr;
         prefetch_hit(scene, hit, record);
+        uint32_t early_dim = 0;
+        vec2 early_u(0.f);
+        LightSample early_ls;
+        bool early_found = false;
+        const bool early = early_sky && depth < settings.max_depth;
+        if (early) {
+            early_dim = sampler.reserve(kBounceDims);
+            early_u = sampler.get2d_at(early_dim + 1);
+            early_found = ts.sample_light(vec3(0.f), 0.f, early_u, early_ls);  // the point is not used
+        }
         SurfacePoint sf;
         if constexpr (kPacked)
             sf = surface_point(scene, hit, *record);
@@ -94,15 +111,15 @@ vec3 trace_path_with(const TraceableScene& ts, const RenderSettings& settings, R
         std::optional<Bsdf> textured;
         const Texture* base_color =
             mat.base_color_texture != kNoIndex ? &scene.textures[mat.base_color_texture] : nullptr;
-        vec2 uv(0.f);
+        TexelFootprint texels;  // where the lookup reads, found once by the prefetch
         if (base_color) {
-            uv = kPacked ? record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
-            base_color->prefetch(uv);
+            const vec2 uv = kPacked ? record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
+            texels = base_color->prefetch(uv);
         }
         auto shade = [&]() -> const Bsdf& {
             if (base_color && !textured) {
                 textured.emplace(mat.bsdf);
-                set_base_color(*textured, vec3(base_color->lookup(uv)));
+                set_base_color(*textured, vec3(base_color->lookup(texels)));
                 bsdf = &*textured;
             }
             return *bsdf;
@@ -114,7 +131,7 @@ vec3 trace_path_with(const TraceableScene& ts, const RenderSettings& settings, R
         const vec3 wo = frame.to_local(wo_world);
 
         // This bounce's dimensions: light selection (+0), light point (+1), lobe (+2), direction (+3), roulette (+4).
-        const uint32_t dim = sampler.reserve(kBounceDims);
+        const uint32_t dim = early ? early_dim : sampler.reserve(kBounceDims);
         // Ray origins off the surface on each side of it, computed once when first needed (the shadow ray and the
         // continuation usually leave on the same side).
         vec3 origin[2];
@@ -132,7 +149,7 @@ vec3 trace_path_with(const TraceableScene& ts, const RenderSettings& settings, R
         // vertex uses (one-lobe BSDFs need no lobe draw, delta ones no light or direction draws), in dimension order.
         const bool do_nee = nee && !is_delta(*bsdf);
         const float u_light_select = do_nee && select_draw ? sampler.get1d_at(dim) : 0.f;
-        const vec2 u_light = do_nee ? sampler.get2d_at(dim + 1) : vec2(0.f);
+        const vec2 u_light = do_nee ? (early ? early_u : sampler.get2d_at(dim + 1)) : vec2(0.f);
         const bool one_lobe = std::holds_alternative<Lambertian>(*bsdf) || std::holds_alternative<Mirror>(*bsdf);
         const float u_lobe = one_lobe ? 0.5f : sampler.get1d_at(dim + 2);
         const vec2 u_bsdf = is_delta(*bsdf) ? vec2(0.5f) : sampler.get2d_at(dim + 3);  // delta lobes ignore it
@@ -140,8 +157,8 @@ vec3 trace_path_with(const TraceableScene& ts, const RenderSettings& settings, R
         // Next-event estimation.
         if (do_nee) {
             // The environment or a triangle; the selection probability is in the pdf.
-            LightSample ls;
-            if (ts.sample_light(sf.p, u_light_select, u_light, ls) && !is_black(ls.le)) {
+            LightSample ls = early_ls;
+            if ((early ? early_found : ts.sample_light(sf.p, u_light_select, u_light, ls)) && !is_black(ls.le)) {
                 const vec3 wi = frame.to_local(ls.wi);
                 const float cos_gl = glm::dot(ls.wi, ng);
                 const bool same_side = (cos_gl > 0.f) == (wi.z > 0.f);

@@ -368,15 +368,17 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
     return finish(Texture(w, h, std::move(texels)));
 }
 
-// The four texels of a bilinear lookup at uv and their weights; false (no footprint) for a non-finite uv.
-inline bool Texture::footprint(vec2 uv, size_t (&index)[4], float& tx, float& ty) const {
+// The four texels of a bilinear lookup at uv and their weights; not valid for a non-finite uv.
+inline TexelFootprint Texture::footprint(vec2 uv) const {
+    TexelFootprint fp;
     // Texel centres at (i + 0.5) / width; v flipped because image row 0 is the top.
     const float x = uv.x * float(m_width) - 0.5f;
     const float y = (1.f - uv.y) * float(m_height) - 0.5f;
-    if (!std::isfinite(x) || !std::isfinite(y)) return false;
+    if (!std::isfinite(x) || !std::isfinite(y)) return fp;
+    fp.valid = true;
     const float fx = std::floor(x), fy = std::floor(y);
-    tx = x - fx;
-    ty = y - fy;
+    fp.tx = x - fx;
+    fp.ty = y - fy;
     // i mod n in [0, n); no division when i is already in range (uv in [0, 1) but for the last half texel).
     auto wrap = [](long long i, int n) {
         if (i >= 0 && i < n) return static_cast<size_t>(i);
@@ -388,40 +390,45 @@ inline bool Texture::footprint(vec2 uv, size_t (&index)[4], float& tx, float& ty
     const size_t y0 = wrap(iy, m_height), y1 = y0 + 1 == size_t(m_height) ? 0 : y0 + 1;
     if (!m_blocks.empty()) {
         const size_t b = m_blocks_per_row;
-        index[0] = tiled_index(x0, y0, b);
-        index[1] = tiled_index(x1, y0, b);
-        index[2] = tiled_index(x0, y1, b);
-        index[3] = tiled_index(x1, y1, b);
-        return true;
+        fp.index[0] = tiled_index(x0, y0, b);
+        fp.index[1] = tiled_index(x1, y0, b);
+        fp.index[2] = tiled_index(x0, y1, b);
+        fp.index[3] = tiled_index(x1, y1, b);
+        return fp;
     }
     const size_t w = size_t(m_width);
-    index[0] = y0 * w + x0;
-    index[1] = y0 * w + x1;
-    index[2] = y1 * w + x0;
-    index[3] = y1 * w + x1;
-    return true;
+    fp.index[0] = y0 * w + x0;
+    fp.index[1] = y0 * w + x1;
+    fp.index[2] = y1 * w + x0;
+    fp.index[3] = y1 * w + x1;
+    return fp;
 }
 
 vec4 Texture::lookup(vec2 uv) const {
     if (m_texels.empty() && m_blocks.empty()) return vec4(1.f);
-    size_t i[4];
-    float tx, ty;
-    if (!footprint(uv, i, tx, ty)) return texel(0);
+    return lookup(footprint(uv));
+}
+
+vec4 Texture::lookup(const TexelFootprint& fp) const {
+    if (m_texels.empty() && m_blocks.empty()) return vec4(1.f);
+    if (!fp.valid) return texel(0);
+    const size_t* i = fp.index;
+    const float tx = fp.tx, ty = fp.ty;
     return (1.f - ty) * ((1.f - tx) * texel(i[0]) + tx * texel(i[1])) +
            ty * ((1.f - tx) * texel(i[2]) + tx * texel(i[3]));
 }
 
-void Texture::prefetch(vec2 uv) const {
-    if (m_texels.empty() && m_blocks.empty()) return;
-    size_t i[4];
-    float tx, ty;
-    if (!footprint(uv, i, tx, ty)) return;
-    for (const size_t k : i) {
+TexelFootprint Texture::prefetch(vec2 uv) const {
+    if (m_texels.empty() && m_blocks.empty()) return {};
+    const TexelFootprint fp = footprint(uv);
+    if (!fp.valid) return fp;
+    for (const size_t k : fp.index) {
         if (m_blocks.empty())
             __builtin_prefetch(&m_texels[k]);
         else
             __builtin_prefetch(&m_blocks[k >> 4]);
     }
+    return fp;
 }
 
 std::string resolve_texture_path(const std::string& dir, const std::string& name) {

@@ -14,6 +14,14 @@
 
 namespace pv {
 
+// The texels a bilinear lookup reads (indices into the texture's storage) and their weights, as Texture::prefetch
+// finds them for Texture::lookup: the address is computed once per lookup.
+struct TexelFootprint {
+    size_t index[4] = {0, 0, 0, 0};
+    float tx = 0.f, ty = 0.f;
+    bool valid = false;  // false for a non-finite uv (the lookup then returns texel 0)
+};
+
 class Texture {
 public:
     Texture() = default;
@@ -40,8 +48,10 @@ public:
 
     vec4 lookup(vec2 uv) const;  // bilinear, repeat wrap
     // Starts loading the texels lookup(uv) reads into the cache without waiting for them (no effect on results): a
-    // caller with other work to do before the lookup (a shadow ray to trace) hides the cache miss behind it.
-    void prefetch(vec2 uv) const;
+    // caller with other work to do before the lookup (a shadow ray to trace) hides the cache miss behind it. Returns
+    // their footprint, for lookup(footprint) = lookup(uv), the same bits.
+    TexelFootprint prefetch(vec2 uv) const;
+    vec4 lookup(const TexelFootprint& footprint) const;
     int width() const { return m_width; }
     int height() const { return m_height; }
     bool has_alpha() const { return m_has_alpha; }
@@ -60,7 +70,7 @@ private:
         uint32_t code[16];
     };
     vec4 texel(size_t i) const;
-    bool footprint(vec2 uv, size_t (&index)[4], float& tx, float& ty) const;
+    TexelFootprint footprint(vec2 uv) const;
     void tile(const std::vector<uint32_t>& codes);
     int m_width = 0, m_height = 0;
     size_t m_blocks_per_row = 0;
