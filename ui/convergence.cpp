@@ -6,9 +6,9 @@
 
 namespace pv::ui {
 
-void ConvergenceHistory::add(uint32_t spp, double seconds, double rel_mse) {
-    if (!(rel_mse > 0.0) || spp == 0 || !(seconds > 0.0)) return;
-    const Point p{std::log10(double(spp)), std::log10(seconds), std::log10(rel_mse)};
+void ConvergenceHistory::add(double spp, double seconds, double rel_mse) {
+    if (!(rel_mse > 0.0) || !(spp > 0.0) || !(seconds > 0.0)) return;
+    const Point p{std::log10(spp), std::log10(seconds), std::log10(rel_mse)};
     // Keep x increasing: a resample needs sorted abscissae in both time and spp.
     if (!m_points.empty() && (p.log_spp <= m_points.back().log_spp || p.log_seconds <= m_points.back().log_seconds))
         return;

@@ -12,8 +12,10 @@ class ConvergenceHistory {
 public:
     // Starts a new accumulation.
     void clear() { m_points.clear(); }
-    // Adds the state after a pass; points with rel_mse <= 0 (fewer than 2 spp) are ignored.
-    void add(uint32_t spp, double seconds, double rel_mse);
+    // Adds the state after a pass; points with rel_mse <= 0 (fewer than 2 spp) are ignored. spp: samples per pixel
+    // taken, on average over the image (with adaptive sampling fewer than the passes: the error falls with the
+    // samples taken, not with the passes).
+    void add(double spp, double seconds, double rel_mse);
 
     // log10(rel_mse) on `n` evenly spaced log10(x) values from the first to the last point (x = seconds or spp);
     // empty with fewer than two points. lo/hi receive the log10 x range.

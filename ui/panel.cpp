@@ -141,7 +141,7 @@ void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& ac
             state.adaptive.min_spp);
     if (state.adaptive.allocate && s.spp > 0 && s.width > 0 && s.height > 0) {
         ImGui::SameLine();
-        ImGui::TextDisabled("%.1f samples per pixel on average", double(s.paths) / (double(s.width) * s.height));
+        ImGui::TextDisabled("mean %.1f spp", double(s.paths) / (double(s.width) * s.height));
     }
     ImGui::SetNextItemWidth(100.f);
     if (ImGui::InputFloat("stop at noise threshold", &state.adaptive.noise_threshold, 0.005f, 0.05f, "%.3f")) {

@@ -13,7 +13,10 @@ bool ShownImage::update(const std::function<bool(Snapshot&)>& latest) {
         m_history.clear();
         m_history_generation = m_shown.generation;
     }
-    m_history.add(m_shown.spp, m_shown.seconds, m_shown.rel_mse);
+    // Samples taken per pixel on average: the passes without adaptive sampling.
+    const double pixels = double(m_shown.width) * double(m_shown.height);
+    const double spp = pixels > 0.0 && m_shown.paths > 0 ? double(m_shown.paths) / pixels : double(m_shown.spp);
+    m_history.add(spp, m_shown.seconds, m_shown.rel_mse);
     return true;
 }
 

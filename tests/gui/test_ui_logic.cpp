@@ -6,6 +6,7 @@
 
 #include "camera_controller.h"
 #include "convergence.h"
+#include "shown_image.h"
 
 namespace pv::ui {
 namespace {
@@ -97,6 +98,31 @@ TEST(ViewerConvergence, SlopeAndResampling) {
     h.clear();
     h.add(1, 0.1, 0.0);  // below 2 spp there is no estimate
     EXPECT_TRUE(h.log_log_by_seconds(16, lo, hi).empty());
+}
+
+// With adaptive sampling a pass samples only part of the image: the slope is taken against the samples taken per
+// pixel (paths / pixels), so an unbiased render still shows -1 (against the passes it would show about -0.6 here).
+TEST(ViewerConvergence, SlopeFollowsTheSamplesTakenNotThePasses) {
+    ShownImage shown;
+    const int w = 10, h = 10;
+    double samples = 0.0;
+    for (uint32_t pass = 1; pass <= 256; ++pass) {
+        samples += pass <= 16 ? 1.0 : 0.4;  // from the first checkpoint on, 40% of the pixels each pass
+        Snapshot s;
+        s.generation = 1;
+        s.serial = pass;
+        s.width = w;
+        s.height = h;
+        s.spp = pass;
+        s.paths = uint64_t(std::llround(samples * w * h));
+        s.seconds = 0.01 * samples;
+        s.rel_mse = 0.5 / samples;
+        ASSERT_TRUE(shown.update([&](Snapshot& out) {
+            out = s;
+            return true;
+        }));
+    }
+    EXPECT_NEAR(shown.history().slope_vs_spp(), -1.0, 1e-3);
 }
 
 }  // namespace pv::ui
