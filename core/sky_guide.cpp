@@ -31,9 +31,8 @@ SkyGuide::SkyGuide(const std::vector<double>& weights, const SkyGuideGrid& grid)
     double global_total = 0.0;
     for (double w : global) global_total += w;
     if (!(global_total > 0.0) || !std::isfinite(global_total)) return;
-    m_grid = grid;
-    m_cells.resize(cells);
-    m_pdf.resize(cells * n);
+    std::vector<CellTable> tables(cells);
+    std::vector<float> pmf(cells * n);
     std::vector<double> w(n);
     for (size_t c = 0; c < cells; ++c) {
         double total = 0.0;
@@ -41,14 +40,20 @@ SkyGuide::SkyGuide(const std::vector<double>& weights, const SkyGuideGrid& grid)
         for (size_t i = 0; i < n; ++i)
             w[i] =
                 total > 0.0 ? clean(weights[c * n + i]) + kGlobalShare * total * global[i] / global_total : global[i];
-        m_cells[c] = DiscreteDistribution(w);
-        if (m_cells[c].empty()) {  // cannot happen with a positive global total; stay consistent regardless
-            m_cells.clear();
-            m_pdf.clear();
-            return;
+        const DiscreteDistribution d(w);
+        // Cannot fail with a positive global total (and 128 items always make 128 slots); stay consistent regardless.
+        if (d.empty() || d.slot_count() != n || d.slot_shift() != kSlotShift) return;
+        for (size_t i = 0; i < n; ++i) {
+            uint32_t threshold, own, alias;
+            d.slot(i, &threshold, &own, &alias);
+            tables[c].slot[i] = threshold << 14 | own << 7 | alias;
+            pmf[c * n + i] = d.pmf(i);
+            tables[c].pdf[i] = d.pmf(i) * (float(kBins) / (4.f * kPi));
         }
-        for (size_t i = 0; i < n; ++i) m_pdf[c * n + i] = m_cells[c].pmf(i) * (float(kBins) / (4.f * kPi));
     }
+    m_grid = grid;
+    m_cells = std::move(tables);
+    m_pmf = std::move(pmf);
 }
 
 int SkyGuide::bin(vec3 d) {
@@ -62,9 +67,12 @@ int SkyGuide::bin(vec3 d) {
     return band * kColumns + col;
 }
 
-vec3 SkyGuide::sample(vec3 p, float u_bin, vec2 u) const {
-    const int i = int(m_cells[size_t(cell(p))].sample(u_bin));
-    const int band = int(i) / kColumns, col = int(i) % kColumns;
+vec3 SkyGuide::sample_in(int cell, float u_bin, vec2 u) const {
+    // DiscreteDistribution::sample on the packed table.
+    const uint32_t k = std::min(uint32_t(u_bin * 0x1p23f), (1u << DiscreteDistribution::kBits) - 1u);
+    const uint32_t slot = m_cells[size_t(cell)].slot[k >> kSlotShift];
+    const uint32_t i = (k & ((1u << kSlotShift) - 1u)) < (slot >> 14) ? (slot >> 7) & 127u : slot & 127u;
+    const uint32_t band = i / kColumns, col = i % kColumns;
     // Uniform by area: y = cos(theta) uniform in the band, phi uniform in the column.
     const float y = 1.f - 2.f * (float(band) + u.x) / float(kBands);
     const float r = std::sqrt(std::max(0.f, 1.f - y * y));
