@@ -88,14 +88,35 @@ private:
     std::vector<float> m_pmf;  // P(bin), cell by cell (not used when sampling)
 };
 
-// Paths traced by the training pre-pass (at about this many grid cells in the render's aspect, two paths each).
+// Cells of the training pre-pass's grids over the film (two paths each): a pilot of one path per pixel (at least
+// kSkyGuidePilotCells cells) decides, then where the guide is used more paths make kSkyGuideTrainingCells in all.
 constexpr int kSkyGuideTrainingCells = 128 * 128;
+constexpr int kSkyGuidePilotCells = 2048;
 // Spatial cells of the guide (about; cubic over the scene's bounds, 1 to 16 per axis).
 constexpr int kSkyGuideCells = 64;
 
 // True when the guide would change anything: the switch is on, next-event estimation is on, the sky shines and the
 // scene declares no portals (portals already aim the sky's samples at the openings).
 bool sky_guide_applies(const TraceableScene& ts, const RenderSettings& settings);
+
+// The training pre-pass and what it measured for `--sky-guide auto` (docs/sky-guide.md): the guide would cut the
+// variance of the pixel estimate by `variance_ratio` = 1 - saved / noise, where noise is the variance of the
+// training paths' NEE-only estimates (from the two paths of each training cell) and saved the second moment the
+// guide's mixture would take out of their sky samples (importance reweighting, each path's samples judged by the
+// guide trained on the other paths). Auto uses the guide where variance_ratio x kSkyGuideRelativeCost < 1.
+struct SkyGuideTraining {
+    std::shared_ptr<const SkyGuide> guide;  // nullptr: learned nothing
+    bool use = false;                       // auto's decision
+    double variance_ratio = 1.0;
+    double noise = 0.0, sky_second_moment = 0.0, saved_second_moment = 0.0;
+    double moment_ratio = 1.0;  // the sky samples' second moment guided / unguided
+    double sky_share = 0.0;     // of the NEE-only estimate, from the sky
+    double sun_share = 0.0;     // of the environment's part of it, from the sun
+};
+// Time per sample with the guide over without (measured 1.14-1.30 on the five scenes of docs/sky-guide.md).
+constexpr double kSkyGuideRelativeCost = 1.25;
+
+SkyGuideTraining train_sky_guide_judged(const TraceableScene& ts, const RenderSettings& settings, const Camera& camera);
 
 // The training pre-pass: camera paths through `camera` (the render's; its film is sampled on a coarse grid in the
 // same aspect) with a seed of its own derived from settings.seed. Deterministic for any thread count (fixed chunks,
