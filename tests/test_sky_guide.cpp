@@ -347,3 +347,26 @@ TEST(SkyGuide, AutoIsOnOrOffBitForBitForAnyThreadCount) {
 
 }  // namespace
 }  // namespace pv
+
+namespace pv {
+namespace {
+
+// The packed table realises DiscreteDistribution's exact probabilities: over all 2^23 values of k = floor(u 2^23),
+// bin b is picked for exactly probability(cell, b) 2^23 of them (the direction taken at the bin's centre, where
+// bin() cannot round to a neighbour), in both cells of the synthetic guide.
+TEST(SkyGuide, PackedTablePicksEachBinWithItsExactProbability) {
+    const auto guide = synthetic_guide();
+    ASSERT_TRUE(guide->valid());
+    const uint32_t n = 1u << DiscreteDistribution::kBits;
+    for (int cell = 0; cell < 2; ++cell) {
+        std::vector<uint32_t> count(size_t(SkyGuide::kBins), 0);
+        for (uint32_t k = 0; k < n; ++k)
+            ++count[size_t(SkyGuide::bin(guide->sample_in(cell, float(k) * 0x1p-23f, vec2(0.5f))))];
+        for (int b = 0; b < SkyGuide::kBins; ++b)
+            EXPECT_EQ(double(count[size_t(b)]), double(guide->probability(cell, b)) * double(n))
+                << "cell " << cell << " bin " << b;
+    }
+}
+
+}  // namespace
+}  // namespace pv
