@@ -314,10 +314,11 @@ SkyGuideTraining train_sky_guide_judged(const TraceableScene& ts, const RenderSe
         const int gw = std::max(1, int(std::lround(std::sqrt(cells * aspect))));
         return glm::ivec2(gw, std::max(1, int(std::lround(cells / double(gw)))));
     };
-    // The pilot: a path per pixel (two per cell), at least kSkyGuidePilotCells cells; the decision comes from it.
+    // The pilot: a path per pixel (two per cell), kSkyGuidePilotCells to kSkyGuideMaxPilotCells cells; the decision
+    // comes from it.
     const glm::ivec2 pilot =
         film_grid(std::clamp(double(camera.width()) * double(camera.height()) / double(kPathsPerCell),
-                             double(kSkyGuidePilotCells), double(kSkyGuideTrainingCells)));
+                             double(kSkyGuidePilotCells), double(kSkyGuideMaxPilotCells)));
     const TrainingData data = train_iteration(ts, camera, pilot.x, pilot.y, seed, grid, true);
     std::vector<double> weights(data.hist[0].size());
     for (size_t i = 0; i < weights.size(); ++i) weights[i] = data.hist[0][i] + data.hist[1][i];

@@ -88,10 +88,12 @@ private:
     std::vector<float> m_pmf;  // P(bin), cell by cell (not used when sampling)
 };
 
-// Cells of the training pre-pass's grids over the film (two paths each): a pilot of one path per pixel (at least
-// kSkyGuidePilotCells cells) decides, then where the guide is used more paths make kSkyGuideTrainingCells in all.
+// Cells of the training pre-pass's grids over the film (two paths each): a pilot of one path per pixel (between
+// kSkyGuidePilotCells and kSkyGuideMaxPilotCells cells: the viewer's coarse passes after every camera move pay it)
+// decides, then where the guide is used more paths make kSkyGuideTrainingCells in all.
 constexpr int kSkyGuideTrainingCells = 128 * 128;
 constexpr int kSkyGuidePilotCells = 2048;
+constexpr int kSkyGuideMaxPilotCells = 8192;
 // Spatial cells of the guide (about; cubic over the scene's bounds, 1 to 16 per axis).
 constexpr int kSkyGuideCells = 64;
 
