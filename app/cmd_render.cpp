@@ -21,6 +21,7 @@
 #include "core/partial.h"
 #include "core/renderer.h"
 #include "core/scene_file.h"
+#include "core/sky_guide.h"
 
 namespace pv::app {
 namespace {
@@ -282,8 +283,14 @@ void run(RenderOptions& o) {
         double(st.rays + st.shadow_rays) / double(std::max<uint64_t>(st.paths, 1)),
         static_cast<unsigned long long>(st.dropped), renderer.threads(), renderer.threads() == 1 ? "" : "s",
         renderer.settings_as_rendered().describe().c_str(), written.c_str());
-    if (st.guide_seconds > 0.0)
-        std::printf("pathview: sky guide trained in %.3f s (part of the first pass)\n", st.guide_seconds);
+    if (st.guide_seconds > 0.0) {
+        char why[160] = "";
+        if (renderer.settings().sky_guide == SkyGuideMode::Auto)
+            std::snprintf(why, sizeof why, " (auto: predicted variance x%.2f at x%.2f the time per sample)",
+                          st.guide_variance_ratio, kSkyGuideRelativeCost);
+        std::printf("pathview: sky guide %s%s, trained in %.3f s (part of the first pass)\n",
+                    st.guide_used ? "on" : "off", why, st.guide_seconds);
+    }
     if (renderer.adaptive_settings().allocate && !renderer.adaptive_settings().enabled())
         std::printf("pathview: adaptive sampling: %.1f samples per pixel on average (%u passes)\n",
                     renderer.film().mean_count(), st.spp);

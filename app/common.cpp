@@ -136,9 +136,11 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
         ->default_str(on_off(o.settings.russian_roulette));
     cmd.add_option("--sky-guide", o.settings.sky_guide,
                    "Next-event estimation of the sky aimed at the directions a short training pre-pass found "
-                   "unoccluded (interiors lit through openings): on|off")
-        ->transform(kOnOff)
-        ->default_str(on_off(o.settings.sky_guide));
+                   "unoccluded (interiors lit through openings): on|off|auto (auto: where the training predicts "
+                   "it pays for its cost)")
+        ->transform(choices(
+            {{"off", int(SkyGuideMode::Off)}, {"on", int(SkyGuideMode::On)}, {"auto", int(SkyGuideMode::Auto)}}))
+        ->default_str("auto");
     cmd.add_option("--sampler", o.settings.sampler, "Sample generator: independent|sobol (Owen-scrambled, padded)")
         ->transform(choices({{"independent", int(SamplerKind::Independent)},
                              {"ind", int(SamplerKind::Independent)},

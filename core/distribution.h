@@ -78,6 +78,13 @@ public:
     }
     float pmf(size_t i) const { return m_pmf[i]; }  // exactly count_i / 2^23
     uint32_t count(size_t i) const { return m_count[i]; }
+    // The table, for a caller that packs several into one array (core/sky_guide.h): slot_count() slots, each
+    // covering 2^slot_shift() consecutive k = floor(u 2^23); slot j picks its own item for the first `threshold`.
+    size_t slot_count() const { return m_slots.size(); }
+    uint32_t slot_shift() const { return m_shift; }
+    void slot(size_t j, uint32_t* threshold, uint32_t* own, uint32_t* alias) const {
+        *threshold = m_slots[j].threshold, *own = m_slots[j].own, *alias = m_slots[j].alias;
+    }
 
 private:
     // A slot covers 2^m_shift consecutive k; the first `threshold` of them pick `own`, the rest `alias`.

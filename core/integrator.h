@@ -12,6 +12,9 @@
 
 namespace pv {
 
+// --sky-guide: off, on, or auto (trained, then used where the training predicts it pays; core/sky_guide.h).
+enum class SkyGuideMode : uint8_t { Off, On, Auto };
+
 // The estimator's switches, as plain data. Defaults are unbiased in practice (depth 1024 is never reached
 // with roulette on: survival falls geometrically with throughput).
 struct RenderSettings {
@@ -23,10 +26,10 @@ struct RenderSettings {
     // Owen-scrambled Sobol: measured better at equal time on the Cornell box (BENCHMARKS.md sections 1 and 5).
     SamplerKind sampler = SamplerKind::Sobol;  // see core/sampler.h
     // Next-event estimation of the sky guided toward the directions a training pre-pass found unoccluded
-    // (core/sky_guide.h); only where the sky shines and the scene has no portals. Off by default: at equal time it
-    // halves the error of a room lit by the sky through a window but costs more than it gains on the sun-lit room,
-    // Sibenik and the conference room (docs/sky-guide.md).
-    bool sky_guide = false;
+    // (core/sky_guide.h); only where the sky shines and the scene has no portals. Auto by default: the training
+    // predicts whether the guide pays for its cost (it halves the error of a room lit by the sky through a window,
+    // and costs more than it gains on the sun-lit room, Sibenik and the conference room; docs/sky-guide.md).
+    SkyGuideMode sky_guide = SkyGuideMode::Auto;
 
     bool operator==(const RenderSettings& o) const {
         return light_sampling == o.light_sampling && mis == o.mis && russian_roulette == o.russian_roulette &&
@@ -34,7 +37,8 @@ struct RenderSettings {
     }
     bool operator!=(const RenderSettings& o) const { return !(*this == o); }
     // One line for logs and EXR metadata, e.g. "nee=on mis=on rr=on max_depth=1024 seed=0 sampler=independent",
-    // then " sky_guide=on" when sky_guide is on (strings from before the guide existed mean it off).
+    // then " sky_guide=on" or " sky_guide=auto" (strings from before the guide existed mean it off; a render's
+    // settings_as_rendered() resolves auto to on or off).
     std::string describe() const;
 };
 

@@ -246,7 +246,7 @@ CameraDesc parse_camera(const std::string& text, const std::string& what) {
 
 RenderSettings parse_settings(const std::string& text, const std::string& what) {
     RenderSettings s;
-    s.sky_guide = false;  // absent in strings from before the sky guide
+    s.sky_guide = SkyGuideMode::Off;  // absent in strings from before the sky guide
     std::stringstream ss(text);
     std::string item;
     bool ok = true;
@@ -264,8 +264,8 @@ RenderSettings parse_settings(const std::string& text, const std::string& what) 
             s.max_depth = int(parse_u64(value, num_ok)), ok = num_ok;
         else if (key == "seed")
             s.seed = uint32_t(parse_u64(value, num_ok)), ok = num_ok;
-        else if (key == "sky_guide" && value == "on")
-            s.sky_guide = true;
+        else if (key == "sky_guide" && (value == "on" || value == "auto"))
+            s.sky_guide = value == "on" ? SkyGuideMode::On : SkyGuideMode::Auto;
         else if (key == "sampler" && parse_sampler(value))
             s.sampler = *parse_sampler(value);
         else

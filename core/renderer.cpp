@@ -54,12 +54,15 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     // The guide is trained in the first pass (timed with it) and frozen for the accumulation, so every shard,
     // resume and half buffer sees the same one.
     m_traceable->set_sky_guide(nullptr);
-    m_guide_pending = settings.sky_guide;
+    m_guide_pending = settings.sky_guide != SkyGuideMode::Off;
 }
 
 RenderSettings Renderer::settings_as_rendered() const {
     RenderSettings s = m_settings;
-    s.sky_guide = sky_guide_applies(*m_traceable, m_settings);
+    if (!sky_guide_applies(*m_traceable, m_settings))
+        s.sky_guide = SkyGuideMode::Off;
+    else if (s.sky_guide == SkyGuideMode::Auto && !m_guide_pending)  // decided: on only where the guide is used
+        s.sky_guide = m_traceable->sky_guide() ? SkyGuideMode::On : SkyGuideMode::Off;
     return s;
 }
 
@@ -75,11 +78,14 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const auto start = std::chrono::steady_clock::now();
     if (m_guide_pending) {
         m_guide_pending = false;
-        std::shared_ptr<const SkyGuide> guide;
-        m_pool->arena.execute([&] { guide = train_sky_guide(*m_traceable, m_settings, m_camera); });
-        if (guide)
+        SkyGuideTraining t;
+        m_pool->arena.execute([&] { t = train_sky_guide_judged(*m_traceable, m_settings, m_camera); });
+        if (t.guide)
             m_stats.guide_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        m_traceable->set_sky_guide(std::move(guide));
+        m_stats.guide_variance_ratio = t.variance_ratio;
+        if (m_settings.sky_guide == SkyGuideMode::Auto && !t.use) t.guide = nullptr;
+        m_stats.guide_used = t.guide != nullptr;
+        m_traceable->set_sky_guide(std::move(t.guide));
     }
     const int w = m_film.width(), h = m_film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;

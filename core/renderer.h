@@ -25,7 +25,9 @@ struct RenderStats {
     uint64_t vertices = 0;
     uint64_t dropped = 0;  // non-finite or negative samples dropped
     double last_pass_seconds = 0.0;
-    double guide_seconds = 0.0;  // the sky guide's training, inside the first pass's time (0: none trained)
+    double guide_seconds = 0.0;         // the sky guide's training, inside the first pass's time (0: none trained)
+    bool guide_used = false;            // the trained guide samples the sky (--sky-guide on, or auto's decision)
+    double guide_variance_ratio = 1.0;  // the training's prediction (SkyGuideTraining::variance_ratio)
 };
 
 class Renderer {
@@ -65,8 +67,9 @@ public:
     const Film& film() const { return m_film; }
     const RenderStats& stats() const { return m_stats; }
     const RenderSettings& settings() const { return m_settings; }
-    // The settings with sky_guide on only where the guide applies (sky_guide_applies): what the image depends on,
-    // for metadata and partial renders (a render the guide cannot change keeps the string it had before it).
+    // The settings with sky_guide on only where the guide applies (sky_guide_applies) and, for auto, once the first
+    // pass decided, where it is used (auto until then): what the image depends on, for metadata and partial renders
+    // (a render the guide cannot change keeps the string it had before it).
     RenderSettings settings_as_rendered() const;
     const Camera& camera() const { return m_camera; }
     const Scene& scene() const { return m_traceable->scene(); }

@@ -31,9 +31,8 @@ SkyGuide::SkyGuide(const std::vector<double>& weights, const SkyGuideGrid& grid)
     double global_total = 0.0;
     for (double w : global) global_total += w;
     if (!(global_total > 0.0) || !std::isfinite(global_total)) return;
-    m_grid = grid;
-    m_cells.resize(cells);
-    m_pdf.resize(cells * n);
+    std::vector<CellTable> tables(cells);
+    std::vector<float> pmf(cells * n);
     std::vector<double> w(n);
     for (size_t c = 0; c < cells; ++c) {
         double total = 0.0;
@@ -41,14 +40,20 @@ SkyGuide::SkyGuide(const std::vector<double>& weights, const SkyGuideGrid& grid)
         for (size_t i = 0; i < n; ++i)
             w[i] =
                 total > 0.0 ? clean(weights[c * n + i]) + kGlobalShare * total * global[i] / global_total : global[i];
-        m_cells[c] = DiscreteDistribution(w);
-        if (m_cells[c].empty()) {  // cannot happen with a positive global total; stay consistent regardless
-            m_cells.clear();
-            m_pdf.clear();
-            return;
+        const DiscreteDistribution d(w);
+        // Cannot fail with a positive global total (and 128 items always make 128 slots); stay consistent regardless.
+        if (d.empty() || d.slot_count() != n || d.slot_shift() != kSlotShift) return;
+        for (size_t i = 0; i < n; ++i) {
+            uint32_t threshold, own, alias;
+            d.slot(i, &threshold, &own, &alias);
+            tables[c].slot[i] = threshold << 14 | own << 7 | alias;
+            pmf[c * n + i] = d.pmf(i);
+            tables[c].pdf[i] = d.pmf(i) * (float(kBins) / (4.f * kPi));
         }
-        for (size_t i = 0; i < n; ++i) m_pdf[c * n + i] = m_cells[c].pmf(i) * (float(kBins) / (4.f * kPi));
     }
+    m_grid = grid;
+    m_cells = std::move(tables);
+    m_pmf = std::move(pmf);
 }
 
 int SkyGuide::bin(vec3 d) {
@@ -62,9 +67,12 @@ int SkyGuide::bin(vec3 d) {
     return band * kColumns + col;
 }
 
-vec3 SkyGuide::sample(vec3 p, float u_bin, vec2 u) const {
-    const int i = int(m_cells[size_t(cell(p))].sample(u_bin));
-    const int band = int(i) / kColumns, col = int(i) % kColumns;
+vec3 SkyGuide::sample_in(int cell, float u_bin, vec2 u) const {
+    // DiscreteDistribution::sample on the packed table.
+    const uint32_t k = std::min(uint32_t(u_bin * 0x1p23f), (1u << DiscreteDistribution::kBits) - 1u);
+    const uint32_t slot = m_cells[size_t(cell)].slot[k >> kSlotShift];
+    const uint32_t i = (k & ((1u << kSlotShift) - 1u)) < (slot >> 14) ? (slot >> 7) & 127u : slot & 127u;
+    const uint32_t band = i / kColumns, col = i % kColumns;
     // Uniform by area: y = cos(theta) uniform in the band, phi uniform in the column.
     const float y = 1.f - 2.f * (float(band) + u.x) / float(kBands);
     const float r = std::sqrt(std::max(0.f, 1.f - y * y));
@@ -73,34 +81,56 @@ vec3 SkyGuide::sample(vec3 p, float u_bin, vec2 u) const {
 }
 
 bool sky_guide_applies(const TraceableScene& ts, const RenderSettings& settings) {
-    return settings.sky_guide && settings.light_sampling && ts.environment_selection_probability() > 0.f &&
-           ts.environment().sun_probability() < 1.f && ts.portal_probability() == 0.f;
+    return settings.sky_guide != SkyGuideMode::Off && settings.light_sampling &&
+           ts.environment_selection_probability() > 0.f && ts.environment().sun_probability() < 1.f &&
+           ts.portal_probability() == 0.f;
 }
 
 namespace {
 
 constexpr int kTrainDepth = 5;    // vertices per training path at most
 constexpr int kShadowRays = 2;    // sky shadow rays per non-delta vertex
-constexpr int kPathsPerCell = 2;  // per training grid cell
+constexpr int kPathsPerCell = 2;  // per training grid cell: two, so that their difference measures the noise
 constexpr int kChunkRows = 16;    // grid rows per chunk (one histogram each)
+
+// A sky sample of the render's own next-event estimation, found unoccluded by a training path: what the guide would
+// change. c2 = its contribution squared, pdf_sky = the sky's own density toward dir.
+struct SkyRecord {
+    vec3 p, dir;
+    float c2, pdf_sky;
+};
+
+// What one training path measured for the decision (SkyGuideTraining): y = its NEE-only estimate of the pixel
+// (the render's light sampling, one sample per non-delta vertex, without MIS; emission seen directly or after a
+// delta bounce), and the parts of it from the sky and from the sun.
+struct PathTally {
+    double y = 0.0, sky = 0.0, sun = 0.0;
+};
 
 // One training path from camera ray `ray`: at each non-delta vertex, kShadowRays shadow rays toward directions from
 // the sky's own sampling add luminance(beta f |cos| Le_sky) / pdf_sky of the unoccluded ones to `h` (the vertex's
 // cell of `grid`, the direction's bin). The path continues by BSDF sampling, with the integrator's shading normals
-// and roulette.
-void train_path(const TraceableScene& ts, const SkyGuideGrid& grid, Ray ray, Pcg32& rng, std::vector<double>& h) {
+// and roulette. With its own generator `nee` (so the guide does not depend on it; none: skipped), one light sample
+// as the render draws it (sample_light; no guide may be set) adds to `tally`, and its unoccluded sky samples to
+// `records`.
+void train_path(const TraceableScene& ts, const SkyGuideGrid& grid, Ray ray, Pcg32& rng, Pcg32* nee,
+                std::vector<double>& h, PathTally& tally, std::vector<SkyRecord>& records) {
     const Scene& scene = ts.scene();
     const Environment& env = ts.environment();
-    const float p_sun = env.sun_probability();
+    const float p_sun = env.sun_probability(), p_env = ts.environment_selection_probability();
     auto u1 = [&] { return rng.next_float(); };
     auto u2 = [&] {
         const float a = rng.next_float();
         return vec2(a, rng.next_float());
     };
     vec3 beta(1.f);
+    bool emission_counts = true;  // camera ray or after a delta bounce: next-event estimation did not see it
     for (int depth = 0; depth < kTrainDepth; ++depth) {
         Hit hit;
-        if (!ts.intersect(ray, hit)) return;
+        if (!ts.intersect(ray, hit)) {
+            if (emission_counts) tally.y += double(luminance(beta * ts.emitted_escape(ray.d)));
+            return;
+        }
         const SurfacePoint sf = surface_point(scene, hit);
         const Material& mat = ts.material(hit.prim);
         Bsdf bsdf = mat.bsdf;
@@ -108,12 +138,15 @@ void train_path(const TraceableScene& ts, const SkyGuideGrid& grid, Ray ray, Pcg
             set_base_color(bsdf,
                            vec3(scene.textures[mat.base_color_texture].lookup(scene.uv_at(hit.prim, hit.u, hit.v))));
         const vec3 wo_world = -ray.d;
-        const auto [ng, ns] = shading_normals(sf, wo_world, glm::dot(wo_world, sf.ng) > 0.f, mat.bsdf);
+        const bool front = glm::dot(wo_world, sf.ng) > 0.f;
+        if (emission_counts && TraceableScene::emits(mat, front)) tally.y += double(luminance(beta * mat.emission));
+        const auto [ng, ns] = shading_normals(sf, wo_world, front, mat.bsdf);
         const Frame frame(ns);
         const vec3 wo = frame.to_local(wo_world);
         auto origin_toward = [&sf](vec3 w) {
             return offset_ray_origin(sf.p, glm::dot(w, sf.ng) > 0.f ? sf.ng : -sf.ng, sf.p_error);
         };
+        emission_counts = is_delta(bsdf);
         if (!is_delta(bsdf)) {
             const size_t cell = size_t(grid.cell(sf.p));
             for (int k = 0; k < kShadowRays; ++k) {
@@ -135,6 +168,27 @@ void train_path(const TraceableScene& ts, const SkyGuideGrid& grid, Ray ray, Pcg
                 h[cell * size_t(SkyGuide::kBins) + size_t(SkyGuide::bin(es->wi))] +=
                     double(value) / double(kShadowRays);
             }
+            // The render's next-event estimate at this vertex (the environment picked when u_select < p_env, its
+            // sky when u.x >= p_sun, as sample_light and Environment::sample choose).
+            const float u_select = nee ? nee->next_float() : 0.f;
+            const float ux = nee ? nee->next_float() : 0.f;
+            const vec2 u(ux, nee ? nee->next_float() : 0.f);
+            LightSample ls;
+            if (nee && ts.sample_light(sf.p, u_select, u, ls) && !is_black(ls.le)) {
+                const vec3 wi = frame.to_local(ls.wi);
+                const float c = (glm::dot(ls.wi, ng) > 0.f) == (wi.z > 0.f)
+                                    ? luminance(beta * eval(bsdf, wo, wi) * ls.le) * std::fabs(wi.z) / ls.pdf
+                                    : 0.f;
+                if (c > 0.f && std::isfinite(c) && !ts.occluded(shadow_ray(origin_toward(ls.wi), ls))) {
+                    tally.y += double(c);
+                    if (u_select < p_env && u.x >= p_sun && env.pdf_sun(ls.wi) == 0.f) {
+                        tally.sky += double(c);
+                        records.push_back(SkyRecord{sf.p, ls.wi, c * c, env.pdf_sky(ls.wi)});
+                    } else if (u_select < p_env) {
+                        tally.sun += double(c);
+                    }
+                }
+            }
         }
         const auto bs = sample(bsdf, wo, u1(), u2());
         if (!bs) return;
@@ -154,44 +208,97 @@ void train_path(const TraceableScene& ts, const SkyGuideGrid& grid, Ray ray, Pcg
     }
 }
 
-// One training iteration: the histogram of luminance(beta f |cos| Le_sky V) / pdf over the bins, summed over every
-// path, per cell of `grid` (the vertex's). kPathsPerCell paths per cell of a gw x gh grid over the film.
-std::vector<double> train_iteration(const TraceableScene& ts, const Camera& camera, int gw, int gh, uint64_t seed,
-                                    const SkyGuideGrid& grid) {
+// What a training pass gathered: the histogram of luminance(beta f |cos| Le_sky V) / pdf over the bins, per cell
+// of the grid and per path of the training cell's pair (s = 0, 1: two guides, each judged on the other's samples);
+// per grid cell, each path's tally; and the sky records of each path of the pair.
+struct TrainingData {
+    std::vector<double> hist[kPathsPerCell];
+    std::vector<PathTally> tally;  // (gy gw + gx) kPathsPerCell + s
+    std::vector<SkyRecord> records[kPathsPerCell];
+};
+
+// One training pass: kPathsPerCell paths per cell of a gw x gh grid over the film; `judged`: with the tallies and
+// records for the decision.
+TrainingData train_iteration(const TraceableScene& ts, const Camera& camera, int gw, int gh, uint64_t seed,
+                             const SkyGuideGrid& grid, bool judged) {
     const size_t bins = size_t(grid.cells()) * size_t(SkyGuide::kBins);
     const int chunks = (gh + kChunkRows - 1) / kChunkRows;
-    std::vector<std::vector<double>> hist(size_t(chunks), std::vector<double>(bins, 0.0));
+    struct Chunk {
+        std::vector<double> hist[kPathsPerCell];
+        std::vector<SkyRecord> records[kPathsPerCell];
+    };
+    std::vector<Chunk> parts(static_cast<size_t>(chunks));
+    TrainingData out;
+    out.tally.resize(size_t(gw) * size_t(gh) * kPathsPerCell);
     const vec2 cell_size(float(camera.width()) / float(gw), float(camera.height()) / float(gh));
     parallel_for_range(0, chunks, [&](const tbb::blocked_range<int>& range) {
         enable_ftz_daz();
-        for (int chunk = range.begin(); chunk != range.end(); ++chunk)
+        for (int chunk = range.begin(); chunk != range.end(); ++chunk) {
+            Chunk& part = parts[size_t(chunk)];
+            for (std::vector<double>& h : part.hist) h.assign(bins, 0.0);
             for (int gy = chunk * kChunkRows; gy < std::min(gh, (chunk + 1) * kChunkRows); ++gy)
                 for (int gx = 0; gx < gw; ++gx)
                     for (int s = 0; s < kPathsPerCell; ++s) {
                         const uint64_t key = hash_combine(hash_combine(seed, uint64_t(gx)), uint64_t(gy));
-                        Pcg32 rng;
+                        Pcg32 rng, nee;
                         rng.seed(hash_combine(key, uint64_t(s)), key);
+                        nee.seed(hash_combine(key, uint64_t(s) + 0x6e6565ull), key + 1);
                         const float fx = rng.next_float(), fy = rng.next_float();
                         const float lx = rng.next_float(), ly = rng.next_float();
                         const vec2 film = (vec2(float(gx), float(gy)) + vec2(fx, fy)) * cell_size;
-                        train_path(ts, grid, camera.generate(film, vec2(lx, ly)), rng, hist[size_t(chunk)]);
+                        const size_t t = (size_t(gy) * size_t(gw) + size_t(gx)) * kPathsPerCell + size_t(s);
+                        train_path(ts, grid, camera.generate(film, vec2(lx, ly)), rng, judged ? &nee : nullptr,
+                                   part.hist[s], out.tally[t], part.records[s]);
                     }
+        }
     });
-    std::vector<double> total(bins, 0.0);
-    for (const std::vector<double>& h : hist)
-        for (size_t i = 0; i < total.size(); ++i) total[i] += h[i];
-    return total;
+    for (int s = 0; s < kPathsPerCell; ++s) {
+        out.hist[s].assign(bins, 0.0);
+        for (Chunk& part : parts) {
+            for (size_t i = 0; i < bins; ++i) out.hist[s][i] += part.hist[s][i];
+            out.records[s].insert(out.records[s].end(), part.records[s].begin(), part.records[s].end());
+        }
+    }
+    return out;
+}
+
+// The decision's statistics from a training pass (see SkyGuideTraining); `guide`: the pass's own.
+void judge(const TrainingData& data, const SkyGuide& guide, SkyGuideTraining& t) {
+    // The variance of the pixel estimate: half the squared difference of the pair's estimates, summed over the
+    // cells; and the parts of the estimates.
+    double noise = 0.0, y = 0.0, sky = 0.0, sun = 0.0;
+    for (size_t c = 0; c + 1 < data.tally.size(); c += kPathsPerCell) {
+        const PathTally &a = data.tally[c], &b = data.tally[c + 1];
+        noise += 0.5 * (a.y - b.y) * (a.y - b.y);
+        for (const PathTally* p : {&a, &b}) y += p->y, sky += p->sky, sun += p->sun;
+    }
+    // The second moment the guide's mixture would take out of the sky samples (their directions were drawn apart
+    // from the guide's training rays): c^2 (1 - pdf_sky / pdf_mixture); per path of a pair, as the noise.
+    double saved = 0.0, m2 = 0.0;
+    const float q = TraceableScene::kSkyGuideProbability;
+    for (const std::vector<SkyRecord>& records : data.records)
+        for (const SkyRecord& r : records) {
+            const float mix = (1.f - q) * r.pdf_sky + q * (guide.valid() ? guide.pdf(r.p, r.dir) : r.pdf_sky);
+            saved += double(r.c2) * (1.0 - double(r.pdf_sky) / double(mix));
+            m2 += double(r.c2);
+        }
+    saved /= double(kPathsPerCell);
+    m2 /= double(kPathsPerCell);
+    t.noise = noise;
+    t.sky_second_moment = m2;
+    t.saved_second_moment = saved;
+    t.variance_ratio = noise > 0.0 ? std::max(0.0, 1.0 - saved / noise) : 1.0;
+    t.moment_ratio = m2 > 0.0 ? 1.0 - saved / m2 : 1.0;
+    t.sky_share = y > 0.0 ? sky / y : 0.0;
+    t.sun_share = sky + sun > 0.0 ? sun / (sky + sun) : 0.0;
 }
 
 }  // namespace
 
-std::shared_ptr<const SkyGuide> train_sky_guide(const TraceableScene& ts, const RenderSettings& settings,
-                                                const Camera& camera) {
-    if (!sky_guide_applies(ts, settings)) return nullptr;
-    // A coarse grid in the render's aspect, whatever the render's size.
-    const double aspect = double(camera.width()) / double(camera.height());
-    const int gw = std::max(1, int(std::lround(std::sqrt(double(kSkyGuideTrainingCells) * aspect))));
-    const int gh = std::max(1, int(std::lround(double(kSkyGuideTrainingCells) / double(gw))));
+SkyGuideTraining train_sky_guide_judged(const TraceableScene& ts, const RenderSettings& settings,
+                                        const Camera& camera) {
+    SkyGuideTraining t;
+    if (!sky_guide_applies(ts, settings)) return t;
     const uint64_t seed = hash_combine(hash_combine(0x736b79677569ull, settings.seed), 1);
     // The grid: about kSkyGuideCells cubic-ish cells over the scene's bounds.
     vec3 lo, hi;
@@ -201,10 +308,38 @@ std::shared_ptr<const SkyGuide> train_sky_guide(const TraceableScene& ts, const 
     glm::ivec3 res(1);
     for (int a = 0; a < 3; ++a) res[a] = std::clamp(int(std::lround(extent[a] / side)), 1, 16);
     const SkyGuideGrid grid(res, lo, lo + extent);
-    std::vector<double> weights = train_iteration(ts, camera, gw, gh, seed, grid);
+    // A grid of about `cells` cells over the film in the render's aspect.
+    const double aspect = double(camera.width()) / double(camera.height());
+    auto film_grid = [aspect](double cells) {
+        const int gw = std::max(1, int(std::lround(std::sqrt(cells * aspect))));
+        return glm::ivec2(gw, std::max(1, int(std::lround(cells / double(gw)))));
+    };
+    // The pilot: a path per pixel (two per cell), kSkyGuidePilotCells to kSkyGuideMaxPilotCells cells; the decision
+    // comes from it.
+    const glm::ivec2 pilot =
+        film_grid(std::clamp(double(camera.width()) * double(camera.height()) / double(kPathsPerCell),
+                             double(kSkyGuidePilotCells), double(kSkyGuideMaxPilotCells)));
+    const TrainingData data = train_iteration(ts, camera, pilot.x, pilot.y, seed, grid, true);
+    std::vector<double> weights(data.hist[0].size());
+    for (size_t i = 0; i < weights.size(); ++i) weights[i] = data.hist[0][i] + data.hist[1][i];
+    judge(data, SkyGuide(weights, grid), t);
+    // The rest of kSkyGuideTrainingCells, where the guide will be used (not for the decision: it needs no tallies).
+    const bool wanted = settings.sky_guide == SkyGuideMode::On || t.variance_ratio * kSkyGuideRelativeCost < 1.0;
+    const int rest = kSkyGuideTrainingCells - pilot.x * pilot.y;
+    if (wanted && rest >= kSkyGuidePilotCells / 4) {
+        const glm::ivec2 more = film_grid(double(rest));
+        const TrainingData d2 = train_iteration(ts, camera, more.x, more.y, hash_combine(seed, 2), grid, false);
+        for (size_t i = 0; i < weights.size(); ++i) weights[i] += d2.hist[0][i] + d2.hist[1][i];
+    }
     auto guide = std::make_shared<SkyGuide>(weights, grid);
-    if (!guide->valid()) return nullptr;
-    return guide;
+    if (guide->valid()) t.guide = std::move(guide);
+    t.use = t.guide && t.variance_ratio * kSkyGuideRelativeCost < 1.0;
+    return t;
+}
+
+std::shared_ptr<const SkyGuide> train_sky_guide(const TraceableScene& ts, const RenderSettings& settings,
+                                                const Camera& camera) {
+    return train_sky_guide_judged(ts, settings, camera).guide;
 }
 
 }  // namespace pv

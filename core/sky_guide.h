@@ -56,36 +56,69 @@ public:
     static constexpr double kGlobalShare = 0.25;
 
     // False when the guide learned nothing (no weight anywhere): it must not be sampled.
-    bool valid() const { return !m_pdf.empty(); }
+    bool valid() const { return !m_cells.empty(); }
     // The bin of direction dir (unit), and the cell of point p (clamped to the grid).
     static int bin(vec3 dir);
     int cell(vec3 p) const { return m_grid.cell(p); }
     static float bin_solid_angle() { return 4.f * kPi / float(kBins); }
-    // Solid-angle density toward dir (unit) from p; 0 for an invalid guide.
-    float pdf(vec3 p, vec3 dir) const {
-        return m_pdf.empty() ? 0.f : m_pdf[size_t(cell(p)) * size_t(kBins) + size_t(bin(dir))];
-    }
-    // A direction from p: a bin by the cell's distribution (u_bin in [0, 1)), then uniform over the bin's area (u in
-    // [0, 1)^2). The bin's probabilities are exact (DiscreteDistribution), and pdf() is built from them.
-    vec3 sample(vec3 p, float u_bin, vec2 u) const;
+    // Solid-angle density toward dir (unit) from p, or from a point of cell `cell`; 0 for an invalid guide.
+    float pdf(vec3 p, vec3 dir) const { return m_cells.empty() ? 0.f : pdf_in(cell(p), dir); }
+    float pdf_in(int cell, vec3 dir) const { return m_cells[size_t(cell)].pdf[bin(dir)]; }
+    // A direction from p (or from a point of cell `cell`): a bin by the cell's distribution (u_bin in [0, 1)), then
+    // uniform over the bin's area (u in [0, 1)^2). The bin's probabilities are exact (DiscreteDistribution's
+    // table), and pdf() is built from them. Valid guides only.
+    vec3 sample(vec3 p, float u_bin, vec2 u) const { return sample_in(cell(p), u_bin, u); }
+    vec3 sample_in(int cell, float u_bin, vec2 u) const;
     const SkyGuideGrid& grid() const { return m_grid; }
     // P(bin) in a cell (valid guides only).
-    float probability(int cell, int bin) const { return m_cells[size_t(cell)].pmf(size_t(bin)); }
+    float probability(int cell, int bin) const { return m_pmf[size_t(cell) * size_t(kBins) + size_t(bin)]; }
 
 private:
+    // One cell's pdf and alias table side by side (1 KiB, one flat array over the cells: sampling and the pdf of a
+    // cell touch one block, no pointer to follow). A slot packs DiscreteDistribution's (threshold, own, alias) for
+    // 128 slots of 2^16 values of k each: threshold << 14 | own << 7 | alias.
+    struct alignas(64) CellTable {
+        float pdf[kBins];  // P(bin) / bin_solid_angle
+        uint32_t slot[kBins];
+    };
+    static constexpr uint32_t kSlotShift = DiscreteDistribution::kBits - 7;  // 2^7 = kBins slots
+    static_assert(kBins == 128, "the packed slots hold 7-bit bin indices");
     SkyGuideGrid m_grid;
-    std::vector<DiscreteDistribution> m_cells;  // P(bin) per cell
-    std::vector<float> m_pdf;                   // P(bin) / bin_solid_angle, cell by cell
+    std::vector<CellTable> m_cells;
+    std::vector<float> m_pmf;  // P(bin), cell by cell (not used when sampling)
 };
 
-// Paths traced by the training pre-pass (at about this many grid cells in the render's aspect, two paths each).
+// Cells of the training pre-pass's grids over the film (two paths each): a pilot of one path per pixel (between
+// kSkyGuidePilotCells and kSkyGuideMaxPilotCells cells: the viewer's coarse passes after every camera move pay it)
+// decides, then where the guide is used more paths make kSkyGuideTrainingCells in all.
 constexpr int kSkyGuideTrainingCells = 128 * 128;
+constexpr int kSkyGuidePilotCells = 2048;
+constexpr int kSkyGuideMaxPilotCells = 8192;
 // Spatial cells of the guide (about; cubic over the scene's bounds, 1 to 16 per axis).
 constexpr int kSkyGuideCells = 64;
 
 // True when the guide would change anything: the switch is on, next-event estimation is on, the sky shines and the
 // scene declares no portals (portals already aim the sky's samples at the openings).
 bool sky_guide_applies(const TraceableScene& ts, const RenderSettings& settings);
+
+// The training pre-pass and what it measured for `--sky-guide auto` (docs/sky-guide.md): the guide would cut the
+// variance of the pixel estimate by `variance_ratio` = 1 - saved / noise, where noise is the variance of the
+// training paths' NEE-only estimates (from the two paths of each training cell) and saved the second moment the
+// guide's mixture would take out of their sky samples (importance reweighting, each path's samples judged by the
+// guide trained on the other paths). Auto uses the guide where variance_ratio x kSkyGuideRelativeCost < 1.
+struct SkyGuideTraining {
+    std::shared_ptr<const SkyGuide> guide;  // nullptr: learned nothing
+    bool use = false;                       // auto's decision
+    double variance_ratio = 1.0;
+    double noise = 0.0, sky_second_moment = 0.0, saved_second_moment = 0.0;
+    double moment_ratio = 1.0;  // the sky samples' second moment guided / unguided
+    double sky_share = 0.0;     // of the NEE-only estimate, from the sky
+    double sun_share = 0.0;     // of the environment's part of it, from the sun
+};
+// Time per sample with the guide over without (measured 1.14-1.30 on the five scenes of docs/sky-guide.md).
+constexpr double kSkyGuideRelativeCost = 1.25;
+
+SkyGuideTraining train_sky_guide_judged(const TraceableScene& ts, const RenderSettings& settings, const Camera& camera);
 
 // The training pre-pass: camera paths through `camera` (the render's; its film is sampled on a coarse grid in the
 // same aspect) with a seed of its own derived from settings.seed. Deterministic for any thread count (fixed chunks,

@@ -114,14 +114,18 @@ bool TraceableScene::sample_environment_mixed(vec3 ref, float u_select, vec2 u, 
     if (u.x >= p_sun && u_select < q) {
         // A direction toward a portal or from the guide; its radiance and sky pdf from one texel search.
         const vec2 up(std::min((u.x - p_sun) / (1.f - p_sun), 0x1.fffffep-1f), u.y);
+        float pdf_mix;
         if (m_p_portal > 0.f) {
             if (!sample_portal(ref, u_select / q, up, wi)) return false;
+            pdf_mix = portal_pdf(ref, wi);
         } else {
-            wi = m_sky_guide->sample(ref, u_select / q, up);
+            const int cell = m_sky_guide->cell(ref);  // once, for the sample and its pdf
+            wi = m_sky_guide->sample_in(cell, u_select / q, up);
+            pdf_mix = m_sky_guide->pdf_in(cell, wi);
         }
         float pdf_sky;
         le = m_environment.eval_and_pdf_sky(wi, &pdf_sky);
-        pdf = m_p_env * mixture_pdf(p_sun, m_environment.pdf_sun(wi), q, pdf_sky, mix_pdf(ref, wi));
+        pdf = m_p_env * mixture_pdf(p_sun, m_environment.pdf_sun(wi), q, pdf_sky, pdf_mix);
     } else {
         const std::optional<EnvironmentSample> es = m_environment.sample(u);
         if (!es) return false;

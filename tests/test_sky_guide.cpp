@@ -49,7 +49,7 @@ RenderSettings independent(uint32_t seed, bool guide) {
     RenderSettings s;
     s.sampler = SamplerKind::Independent;  // the bounds use the i.i.d. sample variance
     s.seed = seed;
-    s.sky_guide = guide;
+    s.sky_guide = guide ? SkyGuideMode::On : SkyGuideMode::Off;
     return s;
 }
 
@@ -161,10 +161,11 @@ TEST(SkyGuide, SettingsStringMarksOnlyGuidedRenders) {
     EXPECT_EQ(parse_settings(independent(3, false).describe(), "t"), independent(3, false));
     Renderer cornell(test::cornell_box(), 1);
     cornell.restart(test::cornell_box()->camera, on, 8, 8);
-    EXPECT_FALSE(cornell.settings_as_rendered().sky_guide);  // not applicable: the string from before the guide
+    EXPECT_EQ(cornell.settings_as_rendered().sky_guide,
+              SkyGuideMode::Off);  // not applicable: the string from before the guide
     Renderer room(skylight_room(false), 1);
     room.restart(room.scene().camera, on, 8, 8);
-    EXPECT_TRUE(room.settings_as_rendered().sky_guide);
+    EXPECT_EQ(room.settings_as_rendered().sky_guide, SkyGuideMode::On);
 }
 
 test::PixelStats render_stats(std::shared_ptr<const Scene> scene, uint32_t seed, bool guide, int spp) {
@@ -283,6 +284,88 @@ TEST(SkyGuide, GuidedSamplesPassTheOpeningFarMoreOften) {
     const double fg = double(pass_guided) / n, fu = double(pass_uniform) / n;
     const double se = std::sqrt(fg * (1.0 - fg) / n + 16.0 * fu * (1.0 - fu) / n);
     EXPECT_GT(fg - 4.0 * fu, 4.0 * se) << "guided " << fg << ", uniform " << fu;
+}
+
+}  // namespace
+}  // namespace pv
+
+namespace pv {
+namespace {
+
+RenderSettings automatic(uint32_t seed) {
+    RenderSettings s = independent(seed, true);
+    s.sky_guide = SkyGuideMode::Auto;
+    return s;
+}
+
+// The skylit room with the sun ten times as bright: it carries most of the light through the opening.
+std::shared_ptr<Scene> sunny_room() {
+    auto scene = skylight_room(true);
+    scene->environment.sun_irradiance = vec3(30.f);
+    return scene;
+}
+
+// --sky-guide auto: the training predicts a large cut of the variance in the room lit through a small skylight by
+// the sky alone (the sky's own samples mostly end on the ceiling), and none worth the guide's cost where a sun
+// through the same opening carries most of the light; the decision follows the rule (variance_ratio x cost < 1).
+TEST(SkyGuide, AutoUsesTheGuideOnlyWhereItPays) {
+    const RenderSettings s = automatic(1);
+    const TraceableScene sky(skylight_room(false)), sun(sunny_room());
+    const SkyGuideTraining a = train_sky_guide_judged(sky, s, Camera(sky.scene().camera, 48, 32));
+    ASSERT_NE(a.guide, nullptr);
+    EXPECT_TRUE(a.use);
+    EXPECT_LT(a.variance_ratio * kSkyGuideRelativeCost, 1.0);
+    EXPECT_GT(a.sky_share, 0.5);  // the sky lights this room
+    const SkyGuideTraining b = train_sky_guide_judged(sun, s, Camera(sun.scene().camera, 48, 32));
+    ASSERT_NE(b.guide, nullptr);  // trained, and learned something, but not used
+    EXPECT_FALSE(b.use);
+    EXPECT_GE(b.variance_ratio * kSkyGuideRelativeCost, 1.0);
+    EXPECT_GT(b.sun_share, 0.5);
+}
+
+// Auto renders the image of `on` where it uses the guide and that of `off` where not, bit for bit, for 1, 2 and 4
+// threads (the decision comes from the same deterministic training), and the settings string says which: auto
+// until the first pass has decided, then " sky_guide=on" or nothing.
+TEST(SkyGuide, AutoIsOnOrOffBitForBitForAnyThreadCount) {
+    for (const bool sunny : {false, true}) {
+        const auto scene = sunny ? sunny_room() : skylight_room(false);
+        Renderer r1(scene, 1), r2(scene, 2), r4(scene, 4);
+        r1.restart(scene->camera, automatic(5), 12, 10);
+        EXPECT_NE(r1.settings_as_rendered().describe().find(" sky_guide=auto"), std::string::npos);
+        const Film f1 = render_passes(r1, automatic(5), 3);
+        EXPECT_EQ(r1.stats().guide_used, !sunny);
+        EXPECT_EQ(r1.settings_as_rendered().sky_guide, sunny ? SkyGuideMode::Off : SkyGuideMode::On);
+        EXPECT_TRUE(same_pixels(f1, render_passes(r2, automatic(5), 3)));
+        EXPECT_TRUE(same_pixels(f1, render_passes(r4, automatic(5), 3)));
+        EXPECT_EQ(r1.stats().guide_variance_ratio, r2.stats().guide_variance_ratio);
+        EXPECT_EQ(r1.stats().guide_variance_ratio, r4.stats().guide_variance_ratio);
+        EXPECT_TRUE(same_pixels(f1, render_passes(r2, independent(5, !sunny), 3)));
+        EXPECT_FALSE(same_pixels(f1, render_passes(r2, independent(5, sunny), 3)));
+    }
+    EXPECT_EQ(parse_settings(automatic(2).describe(), "t"), automatic(2));
+}
+
+}  // namespace
+}  // namespace pv
+
+namespace pv {
+namespace {
+
+// The packed table realises DiscreteDistribution's exact probabilities: over all 2^23 values of k = floor(u 2^23),
+// bin b is picked for exactly probability(cell, b) 2^23 of them (the direction taken at the bin's centre, where
+// bin() cannot round to a neighbour), in both cells of the synthetic guide.
+TEST(SkyGuide, PackedTablePicksEachBinWithItsExactProbability) {
+    const auto guide = synthetic_guide();
+    ASSERT_TRUE(guide->valid());
+    const uint32_t n = 1u << DiscreteDistribution::kBits;
+    for (int cell = 0; cell < 2; ++cell) {
+        std::vector<uint32_t> count(size_t(SkyGuide::kBins), 0);
+        for (uint32_t k = 0; k < n; ++k)
+            ++count[size_t(SkyGuide::bin(guide->sample_in(cell, float(k) * 0x1p-23f, vec2(0.5f))))];
+        for (int b = 0; b < SkyGuide::kBins; ++b)
+            EXPECT_EQ(double(count[size_t(b)]), double(guide->probability(cell, b)) * double(n))
+                << "cell " << cell << " bin " << b;
+    }
 }
 
 }  // namespace

@@ -186,10 +186,16 @@ void Panel::estimator(ViewState& state, PanelActions& act) {
     log_widget("light_sampling");
     ImGui::BeginDisabled(!s.light_sampling);
     act.settings_changed |= ImGui::Checkbox("MIS", &s.mis);
-    act.settings_changed |= ImGui::Checkbox("sky guide", &s.sky_guide);
+    int guide = static_cast<int>(s.sky_guide);
+    if (ImGui::Combo("sky guide", &guide, "off\0on\0auto\0")) {
+        s.sky_guide = static_cast<SkyGuideMode>(guide);
+        act.settings_changed = true;
+    }
     log_widget("sky_guide");
     if (ImGui::IsItemHovered())
-        ImGui::SetTooltip("Aim the sky's light samples at the directions a short training pass found unoccluded");
+        ImGui::SetTooltip(
+            "Aim the sky's light samples at the directions a short training pass found unoccluded; auto: where the "
+            "training predicts it pays");
     ImGui::EndDisabled();
     act.settings_changed |= ImGui::Checkbox("Russian roulette", &s.russian_roulette);
     log_widget("rr");
