@@ -15,6 +15,7 @@ namespace pv {
 
 ProgressiveRenderer::ProgressiveRenderer(std::shared_ptr<const Scene> scene, int threads)
     : m_scene(scene), m_renderer(std::move(scene), threads) {
+    m_renderer.set_keep_sky_guide(true);  // orbiting does not retrain the sky guide (Renderer::set_keep_sky_guide)
     m_thread = std::thread([this] { drive(); });
 }
 

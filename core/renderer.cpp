@@ -41,6 +41,7 @@ Renderer::~Renderer() = default;
 
 void Renderer::set_materials(const std::vector<Material>& materials) {
     m_pool->arena.execute([&] { m_traceable->set_materials(materials); });  // a BVH rebuild runs on our threads
+    ++m_scene_version;
 }
 
 void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings, int width, int height) {
@@ -49,12 +50,20 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     m_film.reset(width, height);
     m_adaptive = m_adaptive_next;
     m_mask.reset(width, height);
+    const RenderStats previous = m_stats;
     m_stats = RenderStats{};
     m_next_sample = 0;
     // The guide is trained in the first pass (timed with it) and frozen for the accumulation, so every shard,
-    // resume and half buffer sees the same one.
+    // resume and half buffer sees the same one; with set_keep_sky_guide, a camera or size change keeps it.
+    if (m_keep_guide && m_guide_decided && !m_guide_pending && settings == m_guide_settings &&
+        m_scene_version == m_guide_version) {
+        m_stats.guide_used = previous.guide_used;
+        m_stats.guide_variance_ratio = previous.guide_variance_ratio;
+        return;
+    }
     m_traceable->set_sky_guide(nullptr);
     m_guide_pending = settings.sky_guide != SkyGuideMode::Off;
+    m_guide_decided = false;
 }
 
 RenderSettings Renderer::settings_as_rendered() const {
@@ -86,6 +95,9 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
         if (m_settings.sky_guide == SkyGuideMode::Auto && !t.use) t.guide = nullptr;
         m_stats.guide_used = t.guide != nullptr;
         m_traceable->set_sky_guide(std::move(t.guide));
+        m_guide_decided = true;
+        m_guide_settings = m_settings;
+        m_guide_version = m_scene_version;
     }
     const int w = m_film.width(), h = m_film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;

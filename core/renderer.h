@@ -43,7 +43,15 @@ public:
     // take effect from the next pass.
     void restart(const CameraDesc& camera, const RenderSettings& settings, int width, int height);
     void set_materials(const std::vector<Material>& materials);
-    void set_environment(const EnvironmentSettings& settings) { m_traceable->set_environment(settings); }
+    void set_environment(const EnvironmentSettings& settings) {
+        m_traceable->set_environment(settings);
+        ++m_scene_version;
+    }
+    // The viewer: a restart that changes only the camera or the image size keeps the trained sky guide and auto's
+    // decision (any guide leaves the estimator unbiased; retraining at every camera move would delay each first
+    // pass while the user orbits). New settings, materials or environment retrain. Off by default: a render's
+    // guide then depends only on its own camera, settings and scene.
+    void set_keep_sky_guide(bool keep) { m_keep_guide = keep; }
 
     // Passes from now on render sample indices first, first + 1, ... (restart() starts at 0), so that a render
     // can be split into sample ranges and merged (core/partial.h). Not concurrent with render_pass().
@@ -88,6 +96,10 @@ private:
     uint32_t m_next_sample = 0;
     uint32_t m_first_sample = 0;   // m_next_sample at the accumulation's first pass
     bool m_guide_pending = false;  // train the sky guide in the next pass
+    bool m_keep_guide = false;     // set_keep_sky_guide
+    bool m_guide_decided = false;  // the guide (or its absence) was trained for m_guide_settings, m_guide_version
+    RenderSettings m_guide_settings;
+    uint64_t m_scene_version = 0, m_guide_version = 0;  // counts set_materials / set_environment calls
     int m_threads = 1;
     struct Pool;
     std::unique_ptr<Pool> m_pool;

@@ -368,5 +368,40 @@ TEST(SkyGuide, PackedTablePicksEachBinWithItsExactProbability) {
     }
 }
 
+// The viewer keeps the trained guide (and auto's decision) across restarts that change only the camera or the size:
+// no training delays the first pass while the user orbits. New settings or materials retrain; a plain Renderer
+// retrains at every restart.
+TEST(SkyGuide, KeptAcrossCameraMovesOnlyWhenAsked) {
+    const auto scene = skylight_room(false);
+    for (const bool keep : {true, false}) {
+        Renderer r(scene, 2);
+        r.set_keep_sky_guide(keep);
+        RenderSettings s = independent(9, true);
+        s.sky_guide = SkyGuideMode::Auto;
+        r.restart(scene->camera, s, 24, 16);
+        r.render_pass();
+        ASSERT_GT(r.stats().guide_seconds, 0.0);
+        ASSERT_TRUE(r.stats().guide_used);
+        const SkyGuide* first = r.traceable().sky_guide();
+        CameraDesc moved = scene->camera;
+        moved.eye += vec3(0.1f, 0.f, 0.f);
+        r.restart(moved, s, 32, 20);
+        r.render_pass();
+        EXPECT_EQ(r.stats().guide_seconds > 0.0, !keep);  // trained again only without keep
+        EXPECT_TRUE(r.stats().guide_used);
+        EXPECT_EQ(r.settings_as_rendered().sky_guide, SkyGuideMode::On);
+        if (!keep) continue;
+        EXPECT_EQ(r.traceable().sky_guide(), first);  // the very same guide
+        r.set_materials(r.traceable().materials());  // an edit, even to the same values
+        r.restart(moved, s, 32, 20);
+        r.render_pass();
+        EXPECT_GT(r.stats().guide_seconds, 0.0);
+        s.seed = 10;  // new settings
+        r.restart(moved, s, 32, 20);
+        r.render_pass();
+        EXPECT_GT(r.stats().guide_seconds, 0.0);
+    }
+}
+
 }  // namespace
 }  // namespace pv
