@@ -392,7 +392,7 @@ TEST(SkyGuide, KeptAcrossCameraMovesOnlyWhenAsked) {
         EXPECT_EQ(r.settings_as_rendered().sky_guide, SkyGuideMode::On);
         if (!keep) continue;
         EXPECT_EQ(r.traceable().sky_guide(), first);  // the very same guide
-        r.set_materials(r.traceable().materials());  // an edit, even to the same values
+        r.set_materials(r.traceable().materials());   // an edit, even to the same values
         r.restart(moved, s, 32, 20);
         r.render_pass();
         EXPECT_GT(r.stats().guide_seconds, 0.0);
