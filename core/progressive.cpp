@@ -285,6 +285,7 @@ void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool
     s.mrays_per_s = st.seconds > 0.0 ? double(s.rays) / st.seconds * 1e-6 : 0.0;
     s.ms_per_pass = st.last_pass_seconds * 1e3;
     s.target_reached = target_reached;
+    s.sky_guide = m_renderer.sky_guide_status();
     s.active_fraction = 1.0;
     s.seconds_to_threshold = -1.0;
     if (const AdaptiveSettings& a = m_renderer.adaptive_settings(); a.enabled()) {

@@ -75,6 +75,17 @@ RenderSettings Renderer::settings_as_rendered() const {
     return s;
 }
 
+std::string Renderer::sky_guide_status() const {
+    if (m_settings.sky_guide == SkyGuideMode::Off) return "";
+    if (!sky_guide_applies(*m_traceable, m_settings)) return "not applicable";
+    if (m_guide_pending) return "training in the first pass";
+    const char* state = m_traceable->sky_guide() ? "on" : "off";
+    if (m_settings.sky_guide != SkyGuideMode::Auto) return state;
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s (auto: variance x%.2f predicted)", state, m_stats.guide_variance_ratio);
+    return buf;
+}
+
 void Renderer::load_film(Film film) {
     if (film.width() != m_film.width() || film.height() != m_film.height())
         throw Error("a film of " + std::to_string(film.width()) + "x" + std::to_string(film.height()) +

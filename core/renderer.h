@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <memory>
+#include <string>
 
 #include "core/adaptive.h"
 #include "core/camera.h"
@@ -79,6 +80,9 @@ public:
     // pass decided, where it is used (auto until then): what the image depends on, for metadata and partial renders
     // (a render the guide cannot change keeps the string it had before it).
     RenderSettings settings_as_rendered() const;
+    // What the sky guide does in this accumulation, for the viewer: "" with --sky-guide off, else "not applicable",
+    // "training in the first pass", or "on" / "off", with the pilot's predicted variance ratio for auto.
+    std::string sky_guide_status() const;
     const Camera& camera() const { return m_camera; }
     const Scene& scene() const { return m_traceable->scene(); }
     // The scene as traced: current materials and environment, BVH, lights.

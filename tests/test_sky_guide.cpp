@@ -403,5 +403,28 @@ TEST(SkyGuide, KeptAcrossCameraMovesOnlyWhenAsked) {
     }
 }
 
+// What the viewer shows under the sky-guide drop-down: the decision auto took, with its prediction.
+TEST(SkyGuide, StatusSaysWhatTheGuideDoes) {
+    const auto room = skylight_room(false), sunny = sunny_room();
+    Renderer r(room, 2);
+    r.restart(room->camera, automatic(3), 24, 16);
+    EXPECT_EQ(r.sky_guide_status(), "training in the first pass");
+    r.render_pass();
+    EXPECT_EQ(r.sky_guide_status().rfind("on (auto: variance x", 0), 0u) << r.sky_guide_status();
+    Renderer q(sunny, 2);
+    q.restart(sunny->camera, automatic(3), 24, 16);
+    q.render_pass();
+    EXPECT_EQ(q.sky_guide_status().rfind("off (auto: variance x", 0), 0u) << q.sky_guide_status();
+    RenderSettings off = automatic(3);
+    off.sky_guide = SkyGuideMode::Off;
+    q.restart(sunny->camera, off, 24, 16);
+    q.render_pass();
+    EXPECT_EQ(q.sky_guide_status(), "");
+    RenderSettings no_nee = automatic(3);
+    no_nee.light_sampling = false;
+    q.restart(sunny->camera, no_nee, 24, 16);
+    EXPECT_EQ(q.sky_guide_status(), "not applicable");
+}
+
 }  // namespace
 }  // namespace pv

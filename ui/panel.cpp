@@ -85,7 +85,7 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
 
     if (ImGui::CollapsingHeader("Progress", ImGuiTreeNodeFlags_DefaultOpen)) progress(state, facts, act);
     if (ImGui::CollapsingHeader("Convergence", ImGuiTreeNodeFlags_DefaultOpen)) convergence(facts);
-    if (ImGui::CollapsingHeader("Estimator", ImGuiTreeNodeFlags_DefaultOpen)) estimator(state, act);
+    if (ImGui::CollapsingHeader("Estimator", ImGuiTreeNodeFlags_DefaultOpen)) estimator(state, facts, act);
     if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) display(state, facts);
     if (ImGui::CollapsingHeader("Snapshot", ImGuiTreeNodeFlags_DefaultOpen)) snapshots(state, act);
     const bool light_open = ImGui::CollapsingHeader("Light");
@@ -180,7 +180,7 @@ void Panel::convergence(const PanelFacts& facts) {
     log_log_plot("##spp", by_spp, lo, hi, "spp");
 }
 
-void Panel::estimator(ViewState& state, PanelActions& act) {
+void Panel::estimator(ViewState& state, const PanelFacts& facts, PanelActions& act) {
     RenderSettings& s = state.settings;
     act.settings_changed |= ImGui::Checkbox("light sampling (NEE)", &s.light_sampling);
     log_widget("light_sampling");
@@ -196,6 +196,8 @@ void Panel::estimator(ViewState& state, PanelActions& act) {
         ImGui::SetTooltip(
             "Aim the sky's light samples at the directions a short training pass found unoccluded; auto: where the "
             "training predicts it pays");
+    if (facts.snapshot && !facts.snapshot->sky_guide.empty())
+        ImGui::TextDisabled("  sky guide %s", facts.snapshot->sky_guide.c_str());
     ImGui::EndDisabled();
     act.settings_changed |= ImGui::Checkbox("Russian roulette", &s.russian_roulette);
     log_widget("rr");

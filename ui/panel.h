@@ -79,7 +79,7 @@ public:
 private:
     void progress(ViewState& state, const PanelFacts& facts, PanelActions& act);
     void convergence(const PanelFacts& facts);
-    void estimator(ViewState& state, PanelActions& act);
+    void estimator(ViewState& state, const PanelFacts& facts, PanelActions& act);
     void display(ViewState& state, const PanelFacts& facts);
     void camera(ViewState& state, CameraController& camera, PanelActions& act);
     void materials(ViewState& state, PanelActions& act);
