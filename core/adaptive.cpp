@@ -26,13 +26,6 @@ void AdaptiveMask::reset(int width, int height) {
     m_rays.assign(n, 0);
 }
 
-double AdaptiveMask::mean_weight() const {
-    if (m_weight.empty()) return 1.0;
-    double acc = 0.0;
-    for (float w : m_weight) acc += double(w);
-    return acc / double(m_weight.size());
-}
-
 namespace {
 
 // out = the mean of `in` over the (2r+1)^2 window clipped to the w x h image (separable; `row` is scratch).

@@ -69,13 +69,10 @@ public:
     uint32_t& next_index(int x, int y) { return m_next[size_t(y) * size_t(m_width) + size_t(x)]; }
     // With allocation, the rays a sample of pixel (x, y) traced: the cost side of the weights.
     void add_rays(int x, int y, uint64_t rays) { m_rays[size_t(y) * size_t(m_width) + size_t(x)] += rays; }
-    const std::vector<uint8_t>& stopped() const { return m_stopped; }
     // The allocation weight of pixel (x, y) (1 before the first checkpoint or without allocation).
     float weight(int x, int y) const {
         return m_weight.empty() ? 1.f : m_weight[size_t(y) * size_t(m_width) + size_t(x)];
     }
-    // Mean samples per pixel per pass the allocation aims at (1 without it).
-    double mean_weight() const;
 
     bool active(int x, int y) const { return m_active[size_t(y) * size_t(m_width) + size_t(x)] != 0; }
     const std::vector<uint8_t>& mask() const { return m_active; }

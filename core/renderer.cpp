@@ -55,8 +55,7 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     m_next_sample = 0;
     // The guide is trained in the first pass (timed with it) and frozen for the accumulation, so every shard,
     // resume and half buffer sees the same one; with set_keep_sky_guide, a camera or size change keeps it.
-    if (m_keep_guide && m_guide_decided && !m_guide_pending && settings == m_guide_settings &&
-        m_scene_version == m_guide_version) {
+    if (m_keep_guide && m_guide_decided && settings == m_guide_settings && m_scene_version == m_guide_version) {
         m_stats.guide_used = previous.guide_used;
         m_stats.guide_variance_ratio = previous.guide_variance_ratio;
         return;

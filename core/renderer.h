@@ -101,7 +101,7 @@ private:
     uint32_t m_first_sample = 0;   // m_next_sample at the accumulation's first pass
     bool m_guide_pending = false;  // train the sky guide in the next pass
     bool m_keep_guide = false;     // set_keep_sky_guide
-    bool m_guide_decided = false;  // the guide (or its absence) was trained for m_guide_settings, m_guide_version
+    bool m_guide_decided = false;  // trained (so not pending) for m_guide_settings and m_guide_version
     RenderSettings m_guide_settings;
     uint64_t m_scene_version = 0, m_guide_version = 0;  // counts set_materials / set_environment calls
     int m_threads = 1;

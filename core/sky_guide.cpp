@@ -324,7 +324,8 @@ SkyGuideTraining train_sky_guide_judged(const TraceableScene& ts, const RenderSe
     for (size_t i = 0; i < weights.size(); ++i) weights[i] = data.hist[0][i] + data.hist[1][i];
     judge(data, SkyGuide(weights, grid), t);
     // The rest of kSkyGuideTrainingCells, where the guide will be used (not for the decision: it needs no tallies).
-    const bool wanted = settings.sky_guide == SkyGuideMode::On || t.variance_ratio * kSkyGuideRelativeCost < 1.0;
+    const bool pays = t.variance_ratio * kSkyGuideRelativeCost < 1.0;
+    const bool wanted = settings.sky_guide == SkyGuideMode::On || pays;
     const int rest = kSkyGuideTrainingCells - pilot.x * pilot.y;
     if (wanted && rest >= kSkyGuidePilotCells / 4) {
         const glm::ivec2 more = film_grid(double(rest));
@@ -333,7 +334,7 @@ SkyGuideTraining train_sky_guide_judged(const TraceableScene& ts, const RenderSe
     }
     auto guide = std::make_shared<SkyGuide>(weights, grid);
     if (guide->valid()) t.guide = std::move(guide);
-    t.use = t.guide && t.variance_ratio * kSkyGuideRelativeCost < 1.0;
+    t.use = t.guide && pays;
     return t;
 }
 
