@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/sampler.h"
+#include "core/surface.h"
 #include "core/traceable_scene.h"
 
 namespace pv {
@@ -48,6 +49,13 @@ struct PathCounters {
     uint64_t shadow_rays = 0;  // occlusion rays
     uint64_t paths = 0;
     uint64_t vertices = 0;  // surface interactions
+    PathCounters& operator+=(const PathCounters& o) {
+        rays += o.rays;
+        shadow_rays += o.shadow_rays;
+        paths += o.paths;
+        vertices += o.vertices;
+        return *this;
+    }
 };
 
 // Sampler dimensions: a sample's camera ray uses dimensions 0 (film position) and 1 (lens), then each bounce a
@@ -69,6 +77,59 @@ inline Ray camera_ray(const Camera& camera, Sampler& sampler, int x, int y, uint
     const vec2 film = vec2(float(x), float(y)) + (pixel_centre ? vec2(0.5f) : sampler.get2d_at(dim));
     return camera.generate(film, camera.has_lens() ? sampler.get2d_at(dim + 1) : vec2(0.5f));
 }
+
+// One path, advanced a stage at a time (pbrt-v4's PathIntegrator::Li cut at its two waits for memory). step() runs
+// until the path must wait for data it has just prefetched, the hit triangle's record after a closest hit and the
+// texels under a textured hit, and returns; the caller can then advance other paths while the loads arrive
+// (Renderer::render_pass interleaves a few per thread on scenes larger than the caches). The arithmetic and the
+// sampler's draws are those of the path traced from start to end, so the radiance is the same, bit for bit,
+// however paths are interleaved: trace_path is start() and step() until it returns false.
+class PathWalker {
+public:
+    // Starts the path of camera ray `ray`; `sampler` has been started for its pixel and sample, and belongs to this
+    // path until it ends. The scene, settings and sampler must outlive the path.
+    void start(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler);
+    // Advances the path; false once it has ended (radiance() and counters() are then its results).
+    bool step() { return (this->*m_step)(); }
+    vec3 radiance() const { return m_L; }
+    const PathCounters& counters() const { return m_counters; }
+
+private:
+    enum class Stage : uint8_t { Trace, Surface, Scatter };
+    template <bool kPacked>
+    bool step_with();
+    bool finish() {
+        m_counters.paths = 1;
+        return false;
+    }
+    const TraceableScene* m_ts = nullptr;
+    const RenderSettings* m_settings = nullptr;
+    Sampler* m_sampler = nullptr;
+    bool (PathWalker::*m_step)() = nullptr;
+    Stage m_stage = Stage::Trace;
+    bool m_nee = false, m_mis = false, m_select_draw = false, m_early_sky = false;
+    // The path.
+    Ray m_ray;
+    vec3 m_L{0.f}, m_beta{1.f};
+    bool m_specular_bounce = true;
+    float m_prev_pdf = 0.f;  // solid-angle pdf of the BSDF sample that produced m_ray
+    vec3 m_prev_p{0.f};
+    float m_eta_scale = 1.f;
+    int m_depth = 0;
+    PathCounters m_counters;
+    // The vertex in flight, from one stage to the next.
+    Hit m_hit;
+    const TriangleRecord* m_record = nullptr;
+    bool m_early = false, m_early_found = false;  // the environment's light sample drawn at the hit (m_early_sky)
+    uint32_t m_early_dim = 0;
+    vec2 m_early_u{0.f};
+    LightSample m_early_ls;
+    SurfacePoint m_sf;
+    const Material* m_mat = nullptr;
+    bool m_front = false;
+    const Texture* m_base_color = nullptr;
+    TexelFootprint m_texels;
+};
 
 // Radiance arriving along `ray` in `scene` (shared read-only by all threads). Uses kBounceDims sampler dimensions
 // per bounce.

@@ -35,6 +35,15 @@ Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads, const std::f
     m_pool = std::make_unique<Pool>(m_threads);
     m_pool->arena.execute([&] { m_traceable = std::make_unique<TraceableScene>(std::move(scene), build_progress); });
     m_camera = Camera(m_traceable->scene().camera, 64, 64);
+    m_paths_in_flight = default_paths_in_flight(*m_traceable);
+}
+
+int default_paths_in_flight(const TraceableScene& ts) {
+    const Scene& s = ts.scene();
+    size_t bytes = ts.accel().stats().bytes;
+    if (ts.triangle_record(0)) bytes += s.triangles.size() * sizeof(TriangleRecord);
+    for (const Texture& t : s.textures) bytes += t.bytes();
+    return bytes > kInterleaveBytes ? 4 : 1;
 }
 
 Renderer::~Renderer() = default;
@@ -120,6 +129,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const bool own_index = m_adaptive.allocate;
     if (own_index) m_mask.prepare_pass(m_stats.spp + 1, m_adaptive);
     const uint8_t* active = m_adaptive.masks() ? m_mask.mask().data() : nullptr;  // nothing: every pixel
+    const int in_flight = m_paths_in_flight;
 
     const char fork_edge = 0, join_edge = 0;  // addresses for TSan's happens-before edges (core/tsan.h)
     tsan_release(&fork_edge);
@@ -133,20 +143,49 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                     return;
                 }
                 TileTotals& tt = totals[size_t(tile)];
-                Sampler sampler(m_settings.seed, m_settings.sampler);
                 const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
                 const int x1 = std::min(x0 + kTile, w), y1 = std::min(y0 + kTile, h);
-                for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x) {
+                const int tile_w = x1 - x0, tile_pixels = tile_w * (y1 - y0);
+                // The tile's pixels in scan order, each path in one of `in_flight` slots, the slots advanced in turn
+                // (PathWalker::step) and each refilled with the next pixel as its path ends. A pixel takes one
+                // sample per pass, so its film sums see the same values in the same order whatever the interleaving.
+                struct Slot {
+                    PathWalker walker;
+                    Sampler sampler;
+                    int x = 0, y = 0;
+                    uint32_t sample = 0;
+                    bool busy = false;
+                };
+                Slot slots[kMaxPathsInFlight];
+                int next = 0;
+                auto start_next = [&](Slot& s) {
+                    while (next < tile_pixels) {
+                        const int x = x0 + next % tile_w, y = y0 + next / tile_w;
+                        ++next;
                         if (active && !active[size_t(y) * size_t(w) + size_t(x)]) continue;
                         m_film.prefetch(x, y);
-                        uint32_t sample = index;
-                        if (own_index) sample = m_first_sample + m_mask.next_index(x, y)++;
-                        const uint64_t rays_before = tt.counters.rays + tt.counters.shadow_rays;
-                        const Ray ray = camera_ray(m_camera, sampler, x, y, sample);
-                        const vec3 L = trace_path(ts, m_settings, ray, sampler, tt.counters);
-                        if (own_index) m_mask.add_rays(x, y, tt.counters.rays + tt.counters.shadow_rays - rays_before);
-                        if (!m_film.add(x, y, sample, L)) tt.dropped++;
+                        s.x = x;
+                        s.y = y;
+                        s.sample = own_index ? m_first_sample + m_mask.next_index(x, y)++ : index;
+                        s.walker.start(ts, m_settings, camera_ray(m_camera, s.sampler, x, y, s.sample), s.sampler);
+                        return s.busy = true;
+                    }
+                    return s.busy = false;
+                };
+                int busy = 0;
+                for (int i = 0; i < in_flight; ++i) {
+                    slots[i].sampler = Sampler(m_settings.seed, m_settings.sampler);
+                    busy += start_next(slots[i]) ? 1 : 0;
+                }
+                while (busy > 0)
+                    for (int i = 0; i < in_flight; ++i) {
+                        Slot& s = slots[i];
+                        if (!s.busy || s.walker.step()) continue;
+                        const PathCounters& c = s.walker.counters();
+                        tt.counters += c;
+                        if (own_index) m_mask.add_rays(s.x, s.y, c.rays + c.shadow_rays);
+                        if (!m_film.add(s.x, s.y, s.sample, s.walker.radiance())) tt.dropped++;
+                        if (!start_next(s)) --busy;
                     }
             }
         });

@@ -4,6 +4,7 @@
 // the film, so a cancelled pass never leaves samples behind.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <memory>
 #include <string>
@@ -89,6 +90,13 @@ public:
     const TraceableScene& traceable() const { return *m_traceable; }
     int threads() const { return m_threads; }
 
+    // Paths each render thread interleaves (PathWalker): while one waits for its hit record or texels, the thread
+    // advances the others. Chosen at construction by default_paths_in_flight; any count gives the same image, bit
+    // for bit. Not concurrent with render_pass().
+    static constexpr int kMaxPathsInFlight = 8;
+    void set_paths_in_flight(int n) { m_paths_in_flight = std::clamp(n, 1, kMaxPathsInFlight); }
+    int paths_in_flight() const { return m_paths_in_flight; }
+
 private:
     std::unique_ptr<TraceableScene> m_traceable;
     RenderSettings m_settings;
@@ -105,9 +113,16 @@ private:
     RenderSettings m_guide_settings;
     uint64_t m_scene_version = 0, m_guide_version = 0;  // counts set_materials / set_environment calls
     int m_threads = 1;
+    int m_paths_in_flight = 1;
     struct Pool;
     std::unique_ptr<Pool> m_pool;
 };
+
+// 4 paths in flight per thread where the hit data (the BVH, the packed hit records and the texels) takes more than
+// kInterleaveBytes, so that a hit's record and texels come from memory rather than from the caches; 1 (no
+// interleaving, nothing to hide and the switching to pay) below. docs/ray-speed.md, sixth round.
+constexpr size_t kInterleaveBytes = size_t(4) << 20;
+int default_paths_in_flight(const TraceableScene& ts);
 
 // EXR metadata describing the current accumulation: spp, seconds, settings, camera, dropped samples, scene.
 Metadata render_metadata(const Renderer& renderer);
