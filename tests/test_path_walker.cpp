@@ -137,9 +137,10 @@ TEST(PathWalker, InterleavedPathsMatchOneAtATime) {
     }
 }
 
-// The Renderer's passes with 1, 3 and 8 paths in flight per thread: the same film sums, counts and ray totals, bit for
-// bit, with adaptive sampling by allocation (each pixel its own sample indices and its ray counts) and without.
-TEST(PathWalker, RendererImageDoesNotDependOnPathsInFlight) {
+// The Renderer's passes (2 threads) with 1, 3 and 8 paths in flight per thread: the same film sums, counts and ray
+// totals, bit for bit, with adaptive sampling by allocation (each pixel its own sample indices and its ray counts) and
+// without. A Threading* suite, so that it also runs under TSan.
+TEST(ThreadingPathsInFlight, ImageDoesNotDependOnPathsInFlight) {
     const auto scene = open_box(false);
     for (const bool allocate : {false, true}) {
         SCOPED_TRACE(allocate ? "adaptive allocation" : "uniform");
