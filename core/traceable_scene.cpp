@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+
+#include "core/huge_pages.h"
 
 namespace pv {
 
@@ -17,7 +20,14 @@ TraceableScene::TraceableScene(std::shared_ptr<const Scene> scene, const std::fu
     if (!m_portal_cdf.empty()) m_portal_cdf.back() = 1.f;
     m_portal_area = float(total);
     m_accel = std::make_unique<Accel>(*m_scene, m_materials, build_progress);
-    m_records = pack_triangles(*m_scene);
+    const std::vector<TriangleRecord> records = pack_triangles(*m_scene);
+    if (!records.empty()) {
+        const size_t bytes = records.size() * sizeof(TriangleRecord);
+        const std::shared_ptr<std::byte> region = allocate_region(bytes);
+        std::memcpy(region.get(), records.data(), bytes);
+        m_records =
+            std::shared_ptr<const TriangleRecord>(region, reinterpret_cast<const TriangleRecord*>(region.get()));
+    }
     m_lights = LightSet(*m_scene, m_materials);
     m_environment_settings = m_scene->environment;
     m_environment = Environment(*m_scene, m_environment_settings);
