@@ -21,7 +21,8 @@ size_t region_capacity(size_t bytes) {
 
 std::shared_ptr<std::byte> allocate_region(size_t bytes) {
     const size_t capacity = region_capacity(bytes == 0 ? 1 : bytes);
-    const bool huge = capacity >= kHugePageMinBytes;
+    // From the size asked for, not the capacity: just below the threshold, 64-byte rounding can reach it.
+    const bool huge = bytes >= kHugePageMinBytes;
     // aligned_alloc needs the size to be a multiple of the alignment: capacity is.
     void* p = std::aligned_alloc(huge ? kHugePageBytes : size_t(64), capacity);
     if (!p) throw std::bad_alloc();
