@@ -15,27 +15,33 @@ void Scene::add_triangle(vec3 a, vec3 b, vec3 c, uint32_t material) {
     if (!uv_indices.empty()) uv_indices.push_back(uvec3(kNoIndex));
 }
 
-std::vector<TriangleRecord> pack_triangles(const Scene& s, size_t max_triangles) {
-    const size_t n = s.triangle_count();
-    if (n > max_triangles || s.materials.size() >= TriangleRecord::kNoUv) return {};
-    std::vector<TriangleRecord> records(n);
-    for (size_t i = 0; i < n; ++i) {
-        TriangleRecord& r = records[i];
-        const uvec3 t = s.triangles[i];
-        r.p[0] = s.positions[t.x];
-        r.p[1] = s.positions[t.y];
-        r.p[2] = s.positions[t.z];
-        const uvec3 ti = s.uv_indices.empty() ? uvec3(kNoIndex) : s.uv_indices[i];
-        r.material_and_flags = s.material_ids[i];
-        if (ti.x == kNoIndex) {
-            r.uv[0] = r.uv[1] = r.uv[2] = vec2(0.f);
-            r.material_and_flags |= TriangleRecord::kNoUv;
-        } else {
-            r.uv[0] = s.uvs[ti.x];
-            r.uv[1] = s.uvs[ti.y];
-            r.uv[2] = s.uvs[ti.z];
-        }
+bool packs_triangles(const Scene& s, size_t max_triangles) {
+    return s.triangle_count() <= max_triangles && s.materials.size() < TriangleRecord::kNoUv;
+}
+
+TriangleRecord pack_triangle(const Scene& s, size_t i) {
+    TriangleRecord r;
+    const uvec3 t = s.triangles[i];
+    r.p[0] = s.positions[t.x];
+    r.p[1] = s.positions[t.y];
+    r.p[2] = s.positions[t.z];
+    const uvec3 ti = s.uv_indices.empty() ? uvec3(kNoIndex) : s.uv_indices[i];
+    r.material_and_flags = s.material_ids[i];
+    if (ti.x == kNoIndex) {
+        r.uv[0] = r.uv[1] = r.uv[2] = vec2(0.f);
+        r.material_and_flags |= TriangleRecord::kNoUv;
+    } else {
+        r.uv[0] = s.uvs[ti.x];
+        r.uv[1] = s.uvs[ti.y];
+        r.uv[2] = s.uvs[ti.z];
     }
+    return r;
+}
+
+std::vector<TriangleRecord> pack_triangles(const Scene& s, size_t max_triangles) {
+    if (!packs_triangles(s, max_triangles)) return {};
+    std::vector<TriangleRecord> records(s.triangle_count());
+    for (size_t i = 0; i < records.size(); ++i) records[i] = pack_triangle(s, i);
     return records;
 }
 

@@ -143,7 +143,11 @@ static_assert(sizeof(TriangleRecord) == 64, "one cache line a triangle");
 // triangle, and the indexed arrays serve it as before.
 constexpr size_t kMaxPackedTriangles = size_t(1) << 20;
 
-// The records of every triangle of `s`, in triangle order; empty above max_triangles triangles.
+// True if `s` is packed: at most max_triangles triangles and material ids below TriangleRecord::kNoUv.
+bool packs_triangles(const Scene& s, size_t max_triangles = kMaxPackedTriangles);
+// The record of triangle i of `s` (when packs_triangles(s)).
+TriangleRecord pack_triangle(const Scene& s, size_t i);
+// The records of every triangle of `s`, in triangle order; empty when !packs_triangles(s, max_triangles).
 std::vector<TriangleRecord> pack_triangles(const Scene& s, size_t max_triangles = kMaxPackedTriangles);
 
 // The built-in Cornell box (assets/cornell-box), loaded from the installed assets folder.

@@ -297,6 +297,7 @@ void set_environment_map(Scene& scene, const std::string& spec) {
     }
     scene.textures.push_back(std::move(map));
     scene.environment_map = static_cast<uint32_t>(scene.textures.size() - 1);
+    pack_texels(scene.textures);  // the map joins the surfaces' textures in one region
 }
 
 Scene load_scene(const std::string& path) {

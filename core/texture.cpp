@@ -18,6 +18,7 @@
 
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/huge_pages.h"
 #include "core/image_io.h"
 
 namespace pv {
@@ -81,9 +82,20 @@ std::string lower(std::string s) {
 
 float srgb_code_to_linear(int c) { return srgb_table()[std::clamp(c, 0, 255)]; }
 
-Texture::Texture(int width, int height, std::vector<vec4> texels)
-    : m_width(width), m_height(height), m_texels(std::move(texels)) {
-    for (vec4& t : m_texels) {
+namespace {
+
+// Storage of `data`'s elements that owns them: null when empty.
+template <typename T>
+std::shared_ptr<const T> own(std::vector<T> data) {
+    if (data.empty()) return nullptr;
+    auto v = std::make_shared<std::vector<T>>(std::move(data));
+    return std::shared_ptr<const T>(v, v->data());
+}
+
+}  // namespace
+
+Texture::Texture(int width, int height, std::vector<vec4> texels) : m_width(width), m_height(height) {
+    for (vec4& t : texels) {
         // A texel is finite and in [0, kMaxTexel]: bilinear weights of texels near FLT_MAX can round the lookup up
         // to Inf (found by fuzz_image on an EXR holding uninitialised-looking huge values), and an environment
         // map's importance sums stay finite.
@@ -91,14 +103,18 @@ Texture::Texture(int width, int height, std::vector<vec4> texels)
         m_has_alpha = m_has_alpha || t.w < 1.f;
     }
     // Keep 8-bit codes instead when every texel is one exactly (bit for bit, so lookups return the same values).
-    std::vector<uint32_t> codes(m_texels.size());
-    for (size_t i = 0; i < m_texels.size(); ++i) {
-        const vec4& t = m_texels[i];
+    std::vector<uint32_t> codes(texels.size());
+    for (size_t i = 0; i < texels.size(); ++i) {
+        const vec4& t = texels[i];
         const int r = srgb_code(t.x), g = srgb_code(t.y), b = srgb_code(t.z), a = alpha_code(t.w);
-        if ((r | g | b | a) < 0) return;
+        if ((r | g | b | a) < 0) {
+            m_count = texels.size();
+            m_texels = own(std::move(texels));
+            return;
+        }
         codes[i] = uint32_t(r) | uint32_t(g) << 8 | uint32_t(b) << 16 | uint32_t(a) << 24;
     }
-    m_texels = std::vector<vec4>();
+    texels = std::vector<vec4>();
     tile(codes);
 }
 
@@ -115,16 +131,40 @@ void Texture::tile(const std::vector<uint32_t>& codes) {
     if (codes.empty()) return;
     const size_t w = size_t(m_width), h = size_t(m_height);
     m_blocks_per_row = (w + 3) / 4;
-    m_blocks.assign(m_blocks_per_row * ((h + 3) / 4), CodeBlock{});
+    std::vector<CodeBlock> blocks(m_blocks_per_row * ((h + 3) / 4), CodeBlock{});
     for (size_t y = 0; y < h; ++y)
         for (size_t x = 0; x < w; ++x) {
             const size_t i = tiled_index(x, y, m_blocks_per_row);
-            m_blocks[i >> 4].code[i & 15] = codes[y * w + x];
+            blocks[i >> 4].code[i & 15] = codes[y * w + x];
         }
+    m_count = blocks.size();
+    m_blocks = own(std::move(blocks));
+}
+
+void pack_texels(std::vector<Texture>& textures) {
+    // Each texture's storage at a 64-byte boundary (a code block is one cache line).
+    auto padded = [](size_t bytes) { return (bytes + 63) / 64 * 64; };
+    size_t total = 0;
+    for (const Texture& t : textures) total += padded(t.bytes());
+    if (total == 0) return;
+    const std::shared_ptr<std::byte> region = allocate_region(total);
+    size_t offset = 0;
+    for (Texture& t : textures) {
+        if (t.empty()) continue;
+        std::byte* at = region.get() + offset;
+        std::memcpy(at, t.storage(), t.bytes());
+        offset += padded(t.bytes());
+        if (t.m_blocks)
+            t.m_blocks = std::shared_ptr<const Texture::CodeBlock>(region, reinterpret_cast<Texture::CodeBlock*>(at));
+        else
+            t.m_texels = std::shared_ptr<const vec4>(region, reinterpret_cast<vec4*>(at));
+    }
+    // The textures' own storage, as large as the region, was just freed: glibc keeps it mapped otherwise.
+    return_freed_heap_memory();
 }
 
 std::vector<vec4> Texture::texels() const {
-    if (m_blocks.empty()) return m_texels;
+    if (!m_blocks) return std::vector<vec4>(m_texels.get(), m_texels.get() + m_count);
     const size_t w = size_t(m_width), h = size_t(m_height);
     std::vector<vec4> out(w * h);
     for (size_t y = 0; y < h; ++y)
@@ -134,9 +174,9 @@ std::vector<vec4> Texture::texels() const {
 
 // Texel i of the storage: row-major floats, or the tiled codes decoded.
 inline vec4 Texture::texel(size_t i) const {
-    if (m_blocks.empty()) return m_texels[i];
+    if (!m_blocks) return m_texels.get()[i];
     const float* table = srgb_table();
-    const uint32_t c = m_blocks[i >> 4].code[i & 15];
+    const uint32_t c = m_blocks.get()[i >> 4].code[i & 15];
     return vec4(table[c & 0xffu], table[(c >> 8) & 0xffu], table[(c >> 16) & 0xffu], float(c >> 24) / 255.f);
 }
 
@@ -388,7 +428,7 @@ inline TexelFootprint Texture::footprint(vec2 uv) const {
     const long long ix = static_cast<long long>(fx), iy = static_cast<long long>(fy);
     const size_t x0 = wrap(ix, m_width), x1 = x0 + 1 == size_t(m_width) ? 0 : x0 + 1;
     const size_t y0 = wrap(iy, m_height), y1 = y0 + 1 == size_t(m_height) ? 0 : y0 + 1;
-    if (!m_blocks.empty()) {
+    if (m_blocks) {
         const size_t b = m_blocks_per_row;
         fp.index[0] = tiled_index(x0, y0, b);
         fp.index[1] = tiled_index(x1, y0, b);
@@ -405,12 +445,12 @@ inline TexelFootprint Texture::footprint(vec2 uv) const {
 }
 
 vec4 Texture::lookup(vec2 uv) const {
-    if (m_texels.empty() && m_blocks.empty()) return vec4(1.f);
+    if (empty()) return vec4(1.f);
     return lookup(footprint(uv));
 }
 
 vec4 Texture::lookup(const TexelFootprint& fp) const {
-    if (m_texels.empty() && m_blocks.empty()) return vec4(1.f);
+    if (empty()) return vec4(1.f);
     if (!fp.valid) return texel(0);
     const size_t* i = fp.index;
     const float tx = fp.tx, ty = fp.ty;
@@ -419,14 +459,14 @@ vec4 Texture::lookup(const TexelFootprint& fp) const {
 }
 
 TexelFootprint Texture::prefetch(vec2 uv) const {
-    if (m_texels.empty() && m_blocks.empty()) return {};
+    if (empty()) return {};
     const TexelFootprint fp = footprint(uv);
     if (!fp.valid) return fp;
     for (const size_t k : fp.index) {
-        if (m_blocks.empty())
-            __builtin_prefetch(&m_texels[k]);
+        if (m_blocks)
+            __builtin_prefetch(m_blocks.get() + (k >> 4));
         else
-            __builtin_prefetch(&m_blocks[k >> 4]);
+            __builtin_prefetch(m_texels.get() + k);
     }
     return fp;
 }

@@ -5,8 +5,12 @@
 // and decoded per lookup through a 256-entry table: the same values, a quarter of the memory traffic. The codes are
 // tiled: 4x4 texels to a 64-byte block, one cache line, so a bilinear footprint touches 1.56 lines on average
 // instead of 2.1 (and one page more rarely two), where rows of a wide image are a page apart.
+//
+// Texels are immutable after construction and shared by copies of a Texture; pack_texels moves a scene's textures
+// into one region on huge pages (core/huge_pages.h), where a hit's texel reads rarely wait for a page walk.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -55,7 +59,9 @@ public:
     int width() const { return m_width; }
     int height() const { return m_height; }
     bool has_alpha() const { return m_has_alpha; }
-    size_t bytes() const { return m_texels.size() * sizeof(vec4) + m_blocks.size() * sizeof(CodeBlock); }
+    size_t bytes() const { return m_blocks ? m_count * sizeof(CodeBlock) : m_texels ? m_count * sizeof(vec4) : 0; }
+    // Where the texels are (tests): the first byte of their storage, or null for an empty texture.
+    const void* storage() const { return m_blocks ? static_cast<const void*>(m_blocks.get()) : m_texels.get(); }
     // The linear texels, row 0 at the top (decoded from the 8-bit codes when kept as codes).
     std::vector<vec4> texels() const;
 
@@ -66,18 +72,28 @@ public:
     }
 
 private:
+    friend void pack_texels(std::vector<Texture>& textures);
     struct alignas(64) CodeBlock {
         uint32_t code[16];
     };
+    bool empty() const { return !m_blocks && !m_texels; }  // no texels (also once moved from)
     vec4 texel(size_t i) const;
     TexelFootprint footprint(vec2 uv) const;
     void tile(const std::vector<uint32_t>& codes);
     int m_width = 0, m_height = 0;
     size_t m_blocks_per_row = 0;
     bool m_has_alpha = false;
-    std::vector<vec4> m_texels;       // linear texels, row-major, when not every texel is an 8-bit code
-    std::vector<CodeBlock> m_blocks;  // else the codes, tiled: R, G, B (sRGB codes) and A (linear code), low byte up
+    // The storage, shared by copies (it never changes) and owned through the pointers: a vector of the texture's
+    // own, or a region shared with the scene's other textures (pack_texels). One of the two is set, or neither.
+    std::shared_ptr<const vec4> m_texels;       // linear texels, row-major, when not every texel is an 8-bit code
+    std::shared_ptr<const CodeBlock> m_blocks;  // else the codes, tiled: R, G, B (sRGB codes), A (linear), low byte up
+    size_t m_count = 0;                         // texels in m_texels or blocks in m_blocks
 };
+
+// Moves the texels of all `textures` into one region (allocate_region: on huge pages from 1 MiB up) that they share
+// from then on, each texture's storage 64-byte aligned in it. Lookups return the same bits; copies made before keep
+// the storage they had. Called by the loaders once a scene's textures are loaded (not concurrent with lookups).
+void pack_texels(std::vector<Texture>& textures);
 
 // The linear value of 8-bit sRGB code c in [0, 255] (IEC 61966-2-1), as 8-bit images are decoded.
 float srgb_code_to_linear(int c);

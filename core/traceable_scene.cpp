@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
+
+#include "core/huge_pages.h"
 
 namespace pv {
 
@@ -17,7 +20,14 @@ TraceableScene::TraceableScene(std::shared_ptr<const Scene> scene, const std::fu
     if (!m_portal_cdf.empty()) m_portal_cdf.back() = 1.f;
     m_portal_area = float(total);
     m_accel = std::make_unique<Accel>(*m_scene, m_materials, build_progress);
-    m_records = pack_triangles(*m_scene);
+    if (packs_triangles(*m_scene) && m_scene->triangle_count() > 0) {
+        // Packed in place: no vector of records beside the region.
+        const size_t n = m_scene->triangle_count();
+        const std::shared_ptr<std::byte> region = allocate_region(n * sizeof(TriangleRecord));
+        auto* records = reinterpret_cast<TriangleRecord*>(region.get());
+        for (size_t i = 0; i < n; ++i) new (records + i) TriangleRecord(pack_triangle(*m_scene, i));
+        m_records = std::shared_ptr<const TriangleRecord>(region, records);
+    }
     m_lights = LightSet(*m_scene, m_materials);
     m_environment_settings = m_scene->environment;
     m_environment = Environment(*m_scene, m_environment_settings);

@@ -68,9 +68,7 @@ public:
     const std::vector<Material>& materials() const { return m_materials; }
     const Material& material(uint32_t prim) const { return m_materials[m_scene->material_ids[prim]]; }
     // Triangle prim's packed hit record (scene.h: TriangleRecord), or null when the scene is too large to pack.
-    const TriangleRecord* triangle_record(uint32_t prim) const {
-        return m_records.empty() ? nullptr : &m_records[prim];
-    }
+    const TriangleRecord* triangle_record(uint32_t prim) const { return m_records ? m_records.get() + prim : nullptr; }
     const Accel& accel() const { return *m_accel; }
     const LightSet& triangle_lights() const { return m_lights; }
     const Environment& environment() const { return m_environment; }
@@ -143,7 +141,9 @@ private:
     std::shared_ptr<const Scene> m_scene;
     std::vector<Material> m_materials;
     std::unique_ptr<Accel> m_accel;
-    std::vector<TriangleRecord> m_records;  // pack_triangles(scene): empty above kMaxPackedTriangles
+    // pack_triangles(scene) in a region of their own (core/huge_pages.h: on huge pages from 1 MiB up, where a hit's
+    // record read rarely waits for a page walk); null above kMaxPackedTriangles.
+    std::shared_ptr<const TriangleRecord> m_records;
     LightSet m_lights;
     EnvironmentSettings m_environment_settings;
     Environment m_environment;
