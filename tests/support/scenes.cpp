@@ -7,6 +7,7 @@
 #include <map>
 #include <mutex>
 
+#include "core/environment.h"
 #include "core/renderer.h"
 #include "core/scene_file.h"
 #include "tests/support/chi2.h"
@@ -163,6 +164,52 @@ void expect_environment_samples_follow_pdf(const TraceableScene& ts, vec3 ref) {
         [&](vec3 w) { return double(ts.light_pdf_escape(ref, w)); }, o);
     EXPECT_TRUE(r.passed) << r.message;
     EXPECT_NEAR(r.pdf_integral, 1.0, 1e-2) << r.message;
+}
+
+std::shared_ptr<Scene> open_box(bool emitter) {
+    auto scene = std::make_shared<Scene>();
+    std::vector<uint32_t> codes(8 * 8);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) codes[size_t(y * 8 + x)] = ((x + y) & 1) ? 0xff2040c0u : 0xffe0d0a0u;
+    scene->textures.push_back(Texture(8, 8, codes));
+    Material floor;
+    floor.base_color_texture = 0;
+    const uint32_t m_floor = add_material(*scene, floor);
+    Material wall;
+    wall.bsdf = Lambertian{vec3(0.6f, 0.5f, 0.4f)};
+    const uint32_t m_wall = add_material(*scene, wall);
+    Material mirror;
+    mirror.bsdf = Mirror{vec3(0.9f)};
+    const uint32_t m_mirror = add_material(*scene, mirror);
+    Material glossy;
+    glossy.bsdf = Glossy{vec3(0.3f, 0.4f, 0.3f), vec3(0.2f), 0.15f};
+    const uint32_t m_glossy = add_material(*scene, glossy);
+    Material glass;
+    glass.bsdf = Dielectric{1.5f};
+    const uint32_t m_glass = add_material(*scene, glass);
+
+    // The floor's two triangles (add_quad: (p0 p1 p2), (p0 p2 p3)) with uvs; the checker repeats twice across it.
+    add_quad(*scene, vec3(-1, 0, -1), vec3(-1, 0, 1), vec3(1, 0, 1), vec3(1, 0, -1), m_floor);
+    scene->uvs = {vec2(0.f, 0.f), vec2(0.f, 2.f), vec2(2.f, 2.f), vec2(2.f, 0.f)};
+    scene->uv_indices = {uvec3(0, 1, 2), uvec3(0, 2, 3)};  // later triangles get none (Scene::add_triangle)
+    add_quad(*scene, vec3(-1, 0, -1), vec3(1, 0, -1), vec3(1, 1.5f, -1), vec3(-1, 1.5f, -1), m_wall);
+    add_quad(*scene, vec3(-1, 0, 1), vec3(-1, 0, -1), vec3(-1, 1.5f, -1), vec3(-1, 1.5f, 1), m_mirror);
+    add_quad(*scene, vec3(1, 0, -1), vec3(1, 0, 1), vec3(1, 1.5f, 1), vec3(1, 1.5f, -1), m_glossy);
+    add_icosphere(*scene, vec3(0.3f, 0.35f, 0.f), 0.3f, 2, m_glass);
+    if (emitter) {
+        Material light;
+        light.emission = vec3(6.f);
+        const uint32_t m_light = add_material(*scene, light);
+        add_quad(*scene, vec3(-0.4f, 1.4f, -0.4f), vec3(0.4f, 1.4f, -0.4f), vec3(0.4f, 1.4f, 0.4f),
+                 vec3(-0.4f, 1.4f, 0.4f), m_light);
+    }
+    scene->textures.push_back(make_default_sky());
+    scene->environment_map = uint32_t(scene->textures.size() - 1);
+    scene->camera.eye = vec3(0.f, 1.2f, 2.6f);
+    scene->camera.target = vec3(0.f, 0.4f, 0.f);
+    scene->camera.vfov_deg = 50.f;
+    scene->has_camera = true;
+    return scene;
 }
 
 }  // namespace pv::test

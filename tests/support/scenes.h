@@ -53,6 +53,12 @@ Film render_with_renderer(std::shared_ptr<const Scene> scene, const CameraDesc& 
 // light_pdf_escape (chi-square), each sample's own pdf is that value, and it integrates to 1 over the sphere.
 void expect_environment_samples_follow_pdf(const TraceableScene& ts, vec3 ref);
 
+// An open box (no ceiling) under a sky: a textured floor (an 8-bit checker with uvs), a mirror wall, a glossy wall, a
+// glass ball and, with `emitter`, an emissive panel (then light sampling chooses between it and the sky; without it
+// the sky is the only light and its sample is drawn at the hit). Every stage of the walker runs: textured and
+// untextured hits, delta and non-delta BSDFs, escapes, emission found by BSDF sampling.
+std::shared_ptr<Scene> open_box(bool emitter);
+
 // The built-in Cornell box, loaded once per process.
 std::shared_ptr<const Scene> cornell_box();
 
