@@ -137,6 +137,16 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
         tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 1), [&](const tbb::blocked_range<int>& r) {
             const TsanTaskScope tsan_scope(&fork_edge, &join_edge);
             enable_ftz_daz();
+            // The paths in flight (PathWalker), each with its own sampler (Sampler::start resets it per sample).
+            struct Slot {
+                PathWalker walker;
+                Sampler sampler;
+                int x = 0, y = 0;
+                uint32_t sample = 0;
+                bool busy = false;
+            };
+            Slot slots[kMaxPathsInFlight];
+            for (int i = 0; i < in_flight; ++i) slots[i].sampler = Sampler(m_settings.seed, m_settings.sampler);
             for (int tile = r.begin(); tile != r.end(); ++tile) {
                 if (cancel && cancel->load(std::memory_order_relaxed)) {
                     cancelled.store(true, std::memory_order_relaxed);
@@ -149,14 +159,6 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                 // The tile's pixels in scan order, each path in one of `in_flight` slots, the slots advanced in turn
                 // (PathWalker::step) and each refilled with the next pixel as its path ends. A pixel takes one
                 // sample per pass, so its film sums see the same values in the same order whatever the interleaving.
-                struct Slot {
-                    PathWalker walker;
-                    Sampler sampler;
-                    int x = 0, y = 0;
-                    uint32_t sample = 0;
-                    bool busy = false;
-                };
-                Slot slots[kMaxPathsInFlight];
                 int next = 0;
                 auto start_next = [&](Slot& s) {
                     while (next < tile_pixels) {
@@ -173,10 +175,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                     return s.busy = false;
                 };
                 int busy = 0;
-                for (int i = 0; i < in_flight; ++i) {
-                    slots[i].sampler = Sampler(m_settings.seed, m_settings.sampler);
-                    busy += start_next(slots[i]) ? 1 : 0;
-                }
+                for (int i = 0; i < in_flight; ++i) busy += start_next(slots[i]) ? 1 : 0;
                 while (busy > 0)
                     for (int i = 0; i < in_flight; ++i) {
                         Slot& s = slots[i];

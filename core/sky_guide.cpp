@@ -274,21 +274,15 @@ void judge(const TrainingData& data, const SkyGuide& guide, SkyGuideTraining& t)
     }
     // The second moment the guide's mixture would take out of the sky samples (their directions were drawn apart
     // from the guide's training rays): c^2 (1 - pdf_sky / pdf_mixture); per path of a pair, as the noise.
-    double saved = 0.0, m2 = 0.0;
+    double saved = 0.0;
     const float q = TraceableScene::kSkyGuideProbability;
     for (const std::vector<SkyRecord>& records : data.records)
         for (const SkyRecord& r : records) {
             const float mix = (1.f - q) * r.pdf_sky + q * (guide.valid() ? guide.pdf(r.p, r.dir) : r.pdf_sky);
             saved += double(r.c2) * (1.0 - double(r.pdf_sky) / double(mix));
-            m2 += double(r.c2);
         }
     saved /= double(kPathsPerCell);
-    m2 /= double(kPathsPerCell);
-    t.noise = noise;
-    t.sky_second_moment = m2;
-    t.saved_second_moment = saved;
     t.variance_ratio = noise > 0.0 ? std::max(0.0, 1.0 - saved / noise) : 1.0;
-    t.moment_ratio = m2 > 0.0 ? 1.0 - saved / m2 : 1.0;
     t.sky_share = y > 0.0 ? sky / y : 0.0;
     t.sun_share = sky + sun > 0.0 ? sun / (sky + sun) : 0.0;
 }

@@ -110,10 +110,8 @@ struct SkyGuideTraining {
     std::shared_ptr<const SkyGuide> guide;  // nullptr: learned nothing
     bool use = false;                       // auto's decision
     double variance_ratio = 1.0;
-    double noise = 0.0, sky_second_moment = 0.0, saved_second_moment = 0.0;
-    double moment_ratio = 1.0;  // the sky samples' second moment guided / unguided
-    double sky_share = 0.0;     // of the NEE-only estimate, from the sky
-    double sun_share = 0.0;     // of the environment's part of it, from the sun
+    double sky_share = 0.0;  // of the NEE-only estimate, from the sky
+    double sun_share = 0.0;  // of the environment's part of it, from the sun
 };
 // Time per sample with the guide over without (measured 1.14-1.30 on the five scenes of docs/sky-guide.md).
 constexpr double kSkyGuideRelativeCost = 1.25;

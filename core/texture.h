@@ -60,7 +60,7 @@ public:
     int height() const { return m_height; }
     bool has_alpha() const { return m_has_alpha; }
     size_t bytes() const { return m_blocks ? m_count * sizeof(CodeBlock) : m_texels ? m_count * sizeof(vec4) : 0; }
-    // Where the texels are (tests): the first byte of their storage, or null for an empty texture.
+    // Where the texels are (pack_texels, tests): the first byte of their storage, or null for an empty texture.
     const void* storage() const { return m_blocks ? static_cast<const void*>(m_blocks.get()) : m_texels.get(); }
     // The linear texels, row 0 at the top (decoded from the 8-bit codes when kept as codes).
     std::vector<vec4> texels() const;
