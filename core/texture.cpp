@@ -95,6 +95,7 @@ std::shared_ptr<const T> own(std::vector<T> data) {
 }  // namespace
 
 Texture::Texture(int width, int height, std::vector<vec4> texels) : m_width(width), m_height(height) {
+    set_wrap();
     for (vec4& t : texels) {
         // A texel is finite and in [0, kMaxTexel]: bilinear weights of texels near FLT_MAX can round the lookup up
         // to Inf (found by fuzz_image on an EXR holding uninitialised-looking huge values), and an environment
@@ -119,12 +120,18 @@ Texture::Texture(int width, int height, std::vector<vec4> texels) : m_width(widt
 }
 
 Texture::Texture(int width, int height, std::vector<uint32_t> codes) : m_width(width), m_height(height) {
+    set_wrap();
     for (const uint32_t c : codes)
         if ((c >> 24) < 255u) {
             m_has_alpha = true;
             break;
         }
     tile(codes);
+}
+
+void Texture::set_wrap() {
+    m_wrap_x = wrap_magic(m_width);
+    m_wrap_y = wrap_magic(m_height);
 }
 
 void Texture::tile(const std::vector<uint32_t>& codes) {
@@ -419,15 +426,9 @@ inline TexelFootprint Texture::footprint(vec2 uv) const {
     const float fx = std::floor(x), fy = std::floor(y);
     fp.tx = x - fx;
     fp.ty = y - fy;
-    // i mod n in [0, n); no division when i is already in range (uv in [0, 1) but for the last half texel).
-    auto wrap = [](long long i, int n) {
-        if (i >= 0 && i < n) return static_cast<size_t>(i);
-        const long long r = i % n;
-        return static_cast<size_t>(r < 0 ? r + n : r);
-    };
     const long long ix = static_cast<long long>(fx), iy = static_cast<long long>(fy);
-    const size_t x0 = wrap(ix, m_width), x1 = x0 + 1 == size_t(m_width) ? 0 : x0 + 1;
-    const size_t y0 = wrap(iy, m_height), y1 = y0 + 1 == size_t(m_height) ? 0 : y0 + 1;
+    const size_t x0 = wrap_texel_index(ix, m_width, m_wrap_x), x1 = x0 + 1 == size_t(m_width) ? 0 : x0 + 1;
+    const size_t y0 = wrap_texel_index(iy, m_height, m_wrap_y), y1 = y0 + 1 == size_t(m_height) ? 0 : y0 + 1;
     if (m_blocks) {
         const size_t b = m_blocks_per_row;
         fp.index[0] = tiled_index(x0, y0, b);

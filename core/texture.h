@@ -26,6 +26,25 @@ struct TexelFootprint {
     bool valid = false;  // false for a non-finite uv (the lookup then returns texel 0)
 };
 
+// The repeat wrap of a texel index, i mod n in [0, n) for n > 0, with magic = wrap_magic(n) (2^64 / n rounded up;
+// 0 for n <= 0). A mask for a power-of-two n; otherwise, for |i| < 2^32, Lemire, Kaser and Kurz's fastmod (2019),
+// exact for every 32-bit numerator and divisor: the low 64 bits of magic * |i| are the fraction |i| / n, and their
+// product with n, shifted down 64 bits, is the remainder. No branch on whether i is already in [0, n): tiled uvs
+// (floors, walls) fall on either side of it at random, and a 64-bit division on one side made the wrap the
+// slowest part of finding the texels (microbench/texture_wrap.cpp).
+inline uint64_t wrap_magic(int n) { return n > 0 ? ~uint64_t(0) / uint64_t(n) + 1 : 0; }
+inline size_t wrap_texel_index(long long i, int n, uint64_t magic) {
+    if ((n & (n - 1)) == 0) return static_cast<size_t>(i & (n - 1));
+    const unsigned long long a = i < 0 ? 0ull - static_cast<unsigned long long>(i) : static_cast<unsigned long long>(i);
+    if (a >> 32) {
+        const long long r = i % n;
+        return static_cast<size_t>(r < 0 ? r + n : r);
+    }
+    const uint64_t fraction = magic * a;
+    const auto r = static_cast<size_t>((static_cast<unsigned __int128>(fraction) * uint64_t(n)) >> 64);
+    return i >= 0 || r == 0 ? r : size_t(n) - r;
+}
+
 class Texture {
 public:
     Texture() = default;
@@ -77,10 +96,12 @@ private:
         uint32_t code[16];
     };
     bool empty() const { return !m_blocks && !m_texels; }  // no texels (also once moved from)
+    void set_wrap();
     vec4 texel(size_t i) const;
     TexelFootprint footprint(vec2 uv) const;
     void tile(const std::vector<uint32_t>& codes);
     int m_width = 0, m_height = 0;
+    uint64_t m_wrap_x = 0, m_wrap_y = 0;  // wrap_magic(m_width), wrap_magic(m_height)
     size_t m_blocks_per_row = 0;
     bool m_has_alpha = false;
     // The storage, shared by copies (it never changes) and owned through the pointers: a vector of the texture's

@@ -68,6 +68,33 @@ TEST(TextureStorage, EightBitCodesLookUpAsTheFloatsTheyDecodeTo) {
     }
 }
 
+// The repeat wrap without divisions (wrap_texel_index: a mask for powers of two, fastmod below 2^32, the division
+// beyond) is i mod n, for texture sizes from 1 to INT_MAX, indices of both signs up to and past 2^32 in magnitude.
+TEST(TextureStorage, WrapIsTheModuloForEverySizeAndIndex) {
+    std::vector<int> sizes;
+    for (int n = 1; n <= 80; ++n) sizes.push_back(n);
+    for (const int n : {94, 477, 640, 1021, 4095, 4096, 16383, 65535, 65537, (1 << 20) + 3, 2147483646, 2147483647})
+        sizes.push_back(n);
+    Pcg32 rng(9, 10);
+    for (const int n : sizes) {
+        const uint64_t magic = wrap_magic(n);
+        std::vector<long long> indices;
+        for (const long long base : {0ll, 1ll * n, 2ll * n, 7ll * n, 1ll << 31, (1ll << 32) - 1, 1ll << 32, 1ll << 40})
+            for (long long d = -2; d <= 2; ++d) {
+                indices.push_back(base + d);
+                indices.push_back(-(base + d));
+            }
+        for (int k = 0; k < 2000; ++k) {
+            const long long r = static_cast<long long>(rng.next_u32()) - (1ll << 31);
+            indices.push_back(k % 2 ? r : r % (64ll * n));
+        }
+        for (const long long i : indices) {
+            const auto expected = static_cast<size_t>(((i % n) + n) % n);
+            ASSERT_EQ(wrap_texel_index(i, n, magic), expected) << "i = " << i << ", n = " << n;
+        }
+    }
+}
+
 // Random texels that are all 8-bit codes (colour sRGB, alpha linear), row-major.
 std::vector<vec4> random_code_texels(int w, int h, Pcg32& rng) {
     std::vector<vec4> texels(size_t(w) * size_t(h));
