@@ -246,7 +246,6 @@ Scene build_scene(std::string text, const std::string& file, const std::string& 
         }
         scene.materials.push_back(std::move(mat));
     }
-    pack_texels(scene.textures);  // one region on huge pages for the hits' texel reads
     uint32_t default_material = kNoIndex;
 
     // Positions: copy, zeroing the bad ones (their triangles are dropped below).

@@ -21,6 +21,8 @@ using Ptr = json::json_pointer;
 constexpr uint64_t kMaxJsonBytes = uint64_t(64) << 20;
 
 void use_default_sky_if_unlit(Scene& scene, bool lighting_given);
+// set_environment_map without packing the texels: the loaders pack them once, when the scene is complete.
+void add_environment_map(Scene& scene, const std::string& spec);
 
 // Reads the values of one JSON scene file. Every error names the file and the JSON pointer of the key
 // ("scene.json: /camera/fov: expected a number in [0.01, 179]"); ranges are the CLI's (app/common.cpp).
@@ -200,7 +202,7 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     }
     if (env.contains("map")) {
         const std::string map = r.string(env["map"], root / "environment" / "map");
-        set_environment_map(scene, map == "sky" ? map : (dir / map).string());  // "sky": the default sky
+        add_environment_map(scene, map == "sky" ? map : (dir / map).string());  // "sky": the default sky
     }
     if (env.contains("color"))
         scene.environment.background = r.vec(env["color"], root / "environment" / "color", 0.f, kBig);
@@ -228,6 +230,7 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
         if (!found) scene.warnings.push_back(path + ": material override '" + name + "' matches no material");
     }
     use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment") || j.contains("sun"));
+    pack_texels(scene.textures);  // the surfaces' textures and the map in one region, on huge pages
     return scene;
 }
 
@@ -235,7 +238,7 @@ namespace {
 
 void use_default_sky_if_unlit(Scene& scene, bool lighting_given) {
     if (lighting_given || scene.has_emitters() || scene.triangles.empty()) return;
-    set_environment_map(scene, "sky");
+    add_environment_map(scene, "sky");
     scene.default_sky_warning = scene.warnings.size();
     scene.warnings.push_back(scene.source +
                              ": the scene has no emitter; lit by the default sky (--environment overrides)");
@@ -285,7 +288,9 @@ const CameraDesc& find_bookmark(const Scene& scene, const std::string& name) {
     throw Error(scene.source + ": no bookmark '" + name + "'; the scene has: " + (names.empty() ? "none" : names));
 }
 
-void set_environment_map(Scene& scene, const std::string& spec) {
+namespace {
+
+void add_environment_map(Scene& scene, const std::string& spec) {
     Texture map;
     if (spec == "sky") {
         map = make_default_sky();
@@ -297,6 +302,12 @@ void set_environment_map(Scene& scene, const std::string& spec) {
     }
     scene.textures.push_back(std::move(map));
     scene.environment_map = static_cast<uint32_t>(scene.textures.size() - 1);
+}
+
+}  // namespace
+
+void set_environment_map(Scene& scene, const std::string& spec) {
+    add_environment_map(scene, spec);
     pack_texels(scene.textures);  // the map joins the surfaces' textures in one region
 }
 
@@ -308,6 +319,7 @@ Scene load_scene(const std::string& path) {
         Scene scene = load_obj(path);
         scene.camera = scene.framing_camera();
         use_default_sky_if_unlit(scene, false);
+        pack_texels(scene.textures);  // the surfaces' textures and the sky in one region, on huge pages
         return scene;
     }
     std::error_code ec;

@@ -26,7 +26,8 @@
 
 namespace pv {
 
-// Loads `path` (.json or .obj). Throws pv::Error with "<file>: what is wrong".
+// Loads `path` (.json or .obj), its textures' texels packed into one region once it is complete (pack_texels).
+// Throws pv::Error with "<file>: what is wrong".
 Scene load_scene(const std::string& path);
 // Loads a JSON scene file's text; `path` names it in messages and relative paths start from its folder (the
 // fuzzer's entry point). Errors name the file and the JSON pointer of the key: "s.json: /camera/fov: expected ...".
@@ -40,7 +41,8 @@ std::string save_bookmark(const std::string& path, const std::string& name, cons
 const CameraDesc& find_bookmark(const Scene& scene, const std::string& name);
 
 // Lights the scene with the equirectangular map at `path` (.exr, .hdr, .png, .jpg), or the default sky for "sky".
-// Throws pv::Error on a bad file. (A constant colour is Scene::background with no map.)
+// Throws pv::Error on a bad file. (A constant colour is Scene::background with no map.) The scene's texels are packed
+// again (pack_texels), the map with them.
 void set_environment_map(Scene& scene, const std::string& path);
 
 }  // namespace pv

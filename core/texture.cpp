@@ -94,8 +94,8 @@ std::shared_ptr<const T> own(std::vector<T> data) {
 
 }  // namespace
 
-Texture::Texture(int width, int height, std::vector<vec4> texels) : m_width(width), m_height(height) {
-    set_wrap();
+Texture::Texture(int width, int height, std::vector<vec4> texels)
+    : m_width(width), m_height(height), m_wrap_x(wrap_magic(width)), m_wrap_y(wrap_magic(height)) {
     for (vec4& t : texels) {
         // A texel is finite and in [0, kMaxTexel]: bilinear weights of texels near FLT_MAX can round the lookup up
         // to Inf (found by fuzz_image on an EXR holding uninitialised-looking huge values), and an environment
@@ -119,19 +119,14 @@ Texture::Texture(int width, int height, std::vector<vec4> texels) : m_width(widt
     tile(codes);
 }
 
-Texture::Texture(int width, int height, std::vector<uint32_t> codes) : m_width(width), m_height(height) {
-    set_wrap();
+Texture::Texture(int width, int height, std::vector<uint32_t> codes)
+    : m_width(width), m_height(height), m_wrap_x(wrap_magic(width)), m_wrap_y(wrap_magic(height)) {
     for (const uint32_t c : codes)
         if ((c >> 24) < 255u) {
             m_has_alpha = true;
             break;
         }
     tile(codes);
-}
-
-void Texture::set_wrap() {
-    m_wrap_x = wrap_magic(m_width);
-    m_wrap_y = wrap_magic(m_height);
 }
 
 void Texture::tile(const std::vector<uint32_t>& codes) {

@@ -96,7 +96,6 @@ private:
         uint32_t code[16];
     };
     bool empty() const { return !m_blocks && !m_texels; }  // no texels (also once moved from)
-    void set_wrap();
     vec4 texel(size_t i) const;
     TexelFootprint footprint(vec2 uv) const;
     void tile(const std::vector<uint32_t>& codes);
@@ -113,7 +112,8 @@ private:
 
 // Moves the texels of all `textures` into one region (allocate_region: on huge pages from 1 MiB up) that they share
 // from then on, each texture's storage 64-byte aligned in it. Lookups return the same bits; copies made before keep
-// the storage they had. Called by the loaders once a scene's textures are loaded (not concurrent with lookups).
+// the storage they had. Called once a scene is complete, by load_scene and set_environment_map (core/scene_file.h; not
+// concurrent with lookups).
 void pack_texels(std::vector<Texture>& textures);
 
 // The linear value of 8-bit sRGB code c in [0, 255] (IEC 61966-2-1), as 8-bit images are decoded.

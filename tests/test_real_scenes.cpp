@@ -95,6 +95,32 @@ Ray ray_from(vec3 o, vec3 d) {
     return r;
 }
 
+// A loaded scene's texels, the sky's included, end up in one region (pack_texels, once the scene is complete): each
+// texture's storage 64-byte aligned right after the one before it. An OBJ lit by the default sky and a JSON scene
+// naming the sky both.
+TEST(Textures, LoadedScenesKeepTheirTexelsAndTheSkyInOneRegion) {
+    TempDir dir;
+    Image img(3, 5);  // 15 texels: 4x4 blocks of codes pad it to 2 blocks (128 bytes)
+    for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < 3; ++x) img.set(x, y, vec3(float(x) / 2.f, float(y) / 4.f, 0.5f));
+    write_png((dir.path / "checker.png").string(), img);
+    dir.file("quad.mtl", "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd checker.png\n");
+    const std::string obj = dir.file("quad.obj", kQuadObj);
+    const std::string json = dir.file("quad.json", R"({"obj": "quad.obj", "environment": {"map": "sky"}})");
+    for (const std::string& path : {obj, json}) {
+        const Scene scene = load_scene(path);
+        ASSERT_EQ(scene.textures.size(), 2u) << path << ": the quad's texture and the sky";
+        ASSERT_EQ(scene.environment_map, 1u) << path;
+        const Texture& surface = scene.textures[0];
+        const Texture& sky = scene.textures[1];
+        ASSERT_GT(surface.bytes(), 0u);
+        const auto at = [](const Texture& t) { return reinterpret_cast<uintptr_t>(t.storage()); };
+        EXPECT_EQ(at(surface) % 64, 0u) << path;
+        EXPECT_EQ(at(sky), at(surface) + (surface.bytes() + 63) / 64 * 64)
+            << path << ": the sky right after the quad's texels";
+    }
+}
+
 TEST(Textures, QuadShowsTheTexelUnderEachPoint) {
     TempDir dir;
     // 2x2 texture, row 0 at the top: (red, green / blue, white) in sRGB bytes 255 -> linear 1.
