@@ -139,6 +139,8 @@ size_t Environment::texel_index(vec3 d, float* sin_theta) const {
     } else if (f > 1.f - m_row_margin) {
         if (row + 1 < h && past_row_edge(row + 1)) ++row;
     }
+    // A map of one column (the default sky) has no column to find.
+    if (w == 1) return size_t(row);
     // Column: the same in map space, (X, Y) = (cos, sin) of phi - rotation, wrapping at phi = 0; an edge
     // direction (cos phi_k, sin phi_k) is passed when the cross product with (X, Y) is >= 0.
     const float X = d.x * m_rotation_cs.x - d.z * m_rotation_cs.y;
@@ -150,13 +152,11 @@ size_t Environment::texel_index(vec3 d, float* sin_theta) const {
     a = a > 0.f ? a : 0.f;
     int col = std::min(int(a), w - 1);
     f = a - float(col);
-    if (w > 1) {
-        if (f < m_col_margin) {
-            if (!past_col_edge(col)) col = (col == 0 ? w : col) - 1;
-        } else if (f > 1.f - m_col_margin) {
-            const int next = col + 1 == w ? 0 : col + 1;
-            if (past_col_edge(next)) col = next;
-        }
+    if (f < m_col_margin) {
+        if (!past_col_edge(col)) col = (col == 0 ? w : col) - 1;
+    } else if (f > 1.f - m_col_margin) {
+        const int next = col + 1 == w ? 0 : col + 1;
+        if (past_col_edge(next)) col = next;
     }
     return size_t(row) * size_t(w) + size_t(col);
 }

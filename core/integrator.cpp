@@ -80,12 +80,13 @@ bool PathWalker::step_with() {
                 if (!ts.intersect(m_ray, hit)) {
                     // The environment: weighted against its own light sampling, as for emissive triangles.
                     if (!ts.environment_black()) {
-                        const vec3 le = ts.emitted_escape(m_ray.d);
-                        if (!nee || m_specular_bounce)
-                            m_L += m_beta * le;
-                        else
-                            m_L +=
-                                m_beta * le * bsdf_hit_weight(mis, m_prev_pdf, ts.light_pdf_escape(m_prev_p, m_ray.d));
+                        if (!nee || m_specular_bounce) {
+                            m_L += m_beta * ts.emitted_escape(m_ray.d);
+                        } else {
+                            float light_pdf = 0.f;
+                            const vec3 le = ts.emitted_escape_and_pdf(m_prev_p, m_ray.d, &light_pdf);
+                            m_L += m_beta * le * bsdf_hit_weight(mis, m_prev_pdf, light_pdf);
+                        }
                     }
                     return finish();
                 }

@@ -115,6 +115,23 @@ float TraceableScene::environment_pdf_mixed(vec3 ref, vec3 dir) const {
                        mix_pdf(ref, dir));
 }
 
+vec3 TraceableScene::emitted_escape_and_pdf(vec3 ref, vec3 dir, float* light_pdf) const {
+    if (m_environment.is_black()) {
+        *light_pdf = 0.f;
+        return vec3(0.f);
+    }
+    // Environment::eval is eval_sun + eval_sky and Environment::pdf is p_sun pdf_sun + (1 - p_sun) pdf_sky: the
+    // same expressions, with the sky's radiance and pdf from eval_and_pdf_sky's one search.
+    float pdf_sky = 0.f;
+    const vec3 le = m_environment.eval_and_pdf_sky(dir, &pdf_sky);
+    const float p_sun = m_environment.sun_probability();
+    if (m_p_mix == 0.f)
+        *light_pdf = m_p_env * (p_sun * m_environment.pdf_sun(dir) + (1.f - p_sun) * pdf_sky);
+    else
+        *light_pdf = m_p_env * mixture_pdf(p_sun, m_environment.pdf_sun(dir), m_p_mix, pdf_sky, mix_pdf(ref, dir));
+    return le;
+}
+
 bool TraceableScene::sample_environment_mixed(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
     // The sun as before (u.x below its probability); the sky's share goes to the portals or the guide when
     // u_select < q.

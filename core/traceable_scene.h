@@ -108,6 +108,9 @@ public:
     }
     bool environment_black() const { return m_environment.is_black(); }
     vec3 emitted_escape(vec3 dir) const { return m_environment.eval(dir); }
+    // emitted_escape(dir), and light_pdf_escape(ref, dir) in *light_pdf, the same values from one texel search (a
+    // BSDF-sampled ray that leaves the scene needs both).
+    vec3 emitted_escape_and_pdf(vec3 ref, vec3 dir, float* light_pdf) const;
     // Probability that sample_light picks the environment rather than a triangle.
     float environment_selection_probability() const { return m_p_env; }
     // Probability that a sample of the sky aims through a portal (0 without portals or with a black sky).

@@ -3,8 +3,11 @@
 // picking, and material and environment edits.
 #include <gtest/gtest.h>
 
+#include "core/environment.h"
+#include "core/rng.h"
 #include "core/surface.h"
 #include "core/traceable_scene.h"
+#include "core/warp.h"
 #include "tests/support/chi2.h"
 #include "tests/support/scenes.h"
 
@@ -130,6 +133,77 @@ TEST(TraceableScene, EditsUpdateLightsAndSelection) {
     ts.set_materials(ts.scene().materials);
     EXPECT_EQ(ts.environment_selection_probability(), 0.f);
     EXPECT_EQ(ts.triangle_lights().size(), 2u);
+}
+
+// emitted_escape_and_pdf (the path tracer's escaped ray: one texel search) gives exactly emitted_escape and
+// light_pdf_escape, for a constant sky, the default one-column sky, a 2D map, each with a sun, and with portals
+// (the mixed pdf), on directions anywhere, in the sun and on texel edges.
+TEST(TraceableScene, EscapeRadianceAndPdfInOneSearchAreTheSeparateValues) {
+    auto with_sun = [](std::shared_ptr<Scene> s) {
+        s->environment.sun_direction = vec3(0.4f, 0.8f, -0.3f);
+        s->environment.sun_angular_radius_deg = 3.f;
+        s->environment.sun_irradiance = vec3(4.f);
+        return s;
+    };
+    auto constant = with_sun(lit_scene(true, vec3(0.6f), vec3(0.f)));
+    auto default_sky = with_sun(std::make_shared<Scene>());
+    default_sky->textures.push_back(make_default_sky());
+    default_sky->environment_map = 0;
+    default_sky->environment.rotation_deg = 37.f;
+    auto map = with_sun(std::make_shared<Scene>());
+    {
+        Pcg32 rng(5, 6);
+        std::vector<vec4> texels(24 * 12);
+        for (vec4& t : texels) t = vec4(rng.next_float(), rng.next_float(), 4.f * rng.next_float(), 1.f);
+        map->textures.emplace_back(24, 12, std::move(texels));
+        map->environment_map = 0;
+        map->environment.rotation_deg = -71.f;
+    }
+    auto portals = with_sun(std::make_shared<Scene>(*map));
+    portals->portals.push_back(Portal{vec3(-0.5f, 1.f, -0.5f), vec3(1.f, 0.f, 0.f), vec3(0.f, 0.f, 1.f)});
+    struct Case {
+        std::shared_ptr<Scene> scene;
+        const char* name;
+    };
+    const Case cases[] = {
+        {constant, "constant"}, {default_sky, "default sky"}, {map, "24x12 map"}, {portals, "24x12 map, portal"}};
+    for (const Case& c : cases) {
+        const TraceableScene ts(c.scene);
+        const Environment env(*c.scene);
+        const vec3 ref(0.1f, 0.2f, -0.05f);
+        std::vector<vec3> dirs;
+        Pcg32 rng(11, 12);
+        for (int i = 0; i < 20000; ++i)
+            dirs.push_back(square_to_uniform_sphere(vec2(rng.next_float(), rng.next_float())));
+        for (int i = 0; i < 5000; ++i) {  // the lights' own samples: in the sun, through the portal
+            LightSample ls;
+            if (ts.sample_light(ref, rng.next_float(), vec2(rng.next_float(), rng.next_float()), ls))
+                dirs.push_back(ls.wi);
+        }
+        for (int row = 0; row <= 12; ++row)  // texel corners of the 2D map (also rows of the others)
+            for (int col = 0; col < 24; ++col) dirs.push_back(env.uv_to_direction(vec2(col / 24.f, row / 12.f)));
+        int in_sun = 0, through_portal = 0;
+        for (const vec3& d : dirs) {
+            float pdf = -1.f;
+            const vec3 le = ts.emitted_escape_and_pdf(ref, d, &pdf);
+            const vec3 le_alone = ts.emitted_escape(d);
+            const float pdf_alone = ts.light_pdf_escape(ref, d);
+            ASSERT_EQ(le.x, le_alone.x) << c.name;
+            ASSERT_EQ(le.y, le_alone.y) << c.name;
+            ASSERT_EQ(le.z, le_alone.z) << c.name;
+            ASSERT_EQ(pdf, pdf_alone) << c.name << " " << d.x << "," << d.y << "," << d.z;
+            in_sun += env.pdf_sun(d) > 0.f ? 1 : 0;
+            through_portal += ts.portal_pdf(ref, d) > 0.f ? 1 : 0;
+        }
+        EXPECT_GT(in_sun, 100) << c.name;  // the sun's part of both values is exercised
+        if (!c.scene->portals.empty()) {
+            EXPECT_GT(through_portal, 100) << c.name;
+        }
+    }
+    float pdf = -1.f;  // nothing shines
+    const TraceableScene dark(lit_scene(true, vec3(0.f), vec3(0.f)));
+    EXPECT_EQ(dark.emitted_escape_and_pdf(vec3(0.f), vec3(0.f, 1.f, 0.f), &pdf), vec3(0.f));
+    EXPECT_EQ(pdf, 0.f);
 }
 
 }  // namespace
