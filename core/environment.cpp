@@ -250,7 +250,7 @@ std::optional<EnvironmentSample> Environment::sample(vec2 u) const {
 
 float Environment::pdf(vec3 dir) const {
     if (m_black) return 0.f;
-    return m_p_sun * pdf_sun(dir) + (1.f - m_p_sun) * pdf_sky(dir);
+    return pdf_given_sky(dir, pdf_sky(dir));
 }
 
 float Environment::pdf_sky(vec3 dir) const {

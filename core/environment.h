@@ -44,6 +44,8 @@ public:
     float sun_probability() const { return m_p_sun; }
     float pdf_sun(vec3 dir) const;
     float pdf_sky(vec3 dir) const;
+    // pdf(dir) given pdf_sky(dir) (a caller that has it from eval_and_pdf_sky's texel search).
+    float pdf_given_sky(vec3 dir, float sky_pdf) const { return m_p_sun * pdf_sun(dir) + (1.f - m_p_sun) * sky_pdf; }
     vec3 eval_sky(vec3 dir) const;  // the sky's radiance alone (no sun)
     // eval(dir), and pdf_sky(dir) in *sky_pdf, with one texel search.
     vec3 eval_and_pdf_sky(vec3 dir, float* sky_pdf) const;

@@ -110,8 +110,8 @@ inline float mixture_pdf(float p_sun, float pdf_sun, float q, float pdf_sky, flo
 }
 }  // namespace
 
-float TraceableScene::environment_pdf_mixed(vec3 ref, vec3 dir) const {
-    return mixture_pdf(m_environment.sun_probability(), m_environment.pdf_sun(dir), m_p_mix, m_environment.pdf_sky(dir),
+float TraceableScene::environment_pdf_mixed(vec3 ref, vec3 dir, float sky_pdf) const {
+    return mixture_pdf(m_environment.sun_probability(), m_environment.pdf_sun(dir), m_p_mix, sky_pdf,
                        mix_pdf(ref, dir));
 }
 
@@ -120,15 +120,11 @@ vec3 TraceableScene::emitted_escape_and_pdf(vec3 ref, vec3 dir, float* light_pdf
         *light_pdf = 0.f;
         return vec3(0.f);
     }
-    // Environment::eval is eval_sun + eval_sky and Environment::pdf is p_sun pdf_sun + (1 - p_sun) pdf_sky: the
-    // same expressions, with the sky's radiance and pdf from eval_and_pdf_sky's one search.
-    float pdf_sky = 0.f;
-    const vec3 le = m_environment.eval_and_pdf_sky(dir, &pdf_sky);
-    const float p_sun = m_environment.sun_probability();
-    if (m_p_mix == 0.f)
-        *light_pdf = m_p_env * (p_sun * m_environment.pdf_sun(dir) + (1.f - p_sun) * pdf_sky);
-    else
-        *light_pdf = m_p_env * mixture_pdf(p_sun, m_environment.pdf_sun(dir), m_p_mix, pdf_sky, mix_pdf(ref, dir));
+    // Environment::eval is eval_sun + eval_sky, and light_pdf_escape is escape_pdf of pdf_sky: the same values,
+    // with the sky's radiance and pdf from eval_and_pdf_sky's one search.
+    float sky_pdf = 0.f;
+    const vec3 le = m_environment.eval_and_pdf_sky(dir, &sky_pdf);
+    *light_pdf = escape_pdf(ref, dir, sky_pdf);
     return le;
 }
 
@@ -161,7 +157,7 @@ bool TraceableScene::sample_environment_mixed(vec3 ref, float u_select, vec2 u, 
         // A sky direction outside the sun: es->pdf is (1 - p_sun) pdf_sky, no second texel search.
         pdf = u.x >= p_sun && m_environment.pdf_sun(wi) == 0.f
                   ? m_p_env * ((1.f - q) * es->pdf + (1.f - p_sun) * q * mix_pdf(ref, wi))
-                  : m_p_env * environment_pdf_mixed(ref, wi);
+                  : m_p_env * environment_pdf_mixed(ref, wi, m_environment.pdf_sky(wi));
     }
     if (!(pdf > 0.f)) return false;
     ls.wi = wi;

@@ -97,8 +97,7 @@ public:
     // The pdf sample_light would give the environment in direction dir from `ref` (the ray's origin: portals make
     // it depend on where the ray starts).
     float light_pdf_escape(vec3 ref, vec3 dir) const {
-        if (m_p_mix == 0.f) return m_p_env * m_environment.pdf(dir);
-        return m_p_env * environment_pdf_mixed(ref, dir);
+        return m_environment.is_black() ? 0.f : escape_pdf(ref, dir, m_environment.pdf_sky(dir));
     }
     // Emission a ray finds: on a hit with material `mat` from the front (or not), mat.emission when emits() (a
     // one-sided emitter is black behind); on leaving the scene in direction dir, emitted_escape(dir), nothing when
@@ -134,8 +133,14 @@ private:
     // The environment's sample when the sky's sampling is a mixture with portals or the guide (u_select in [0, 1):
     // the mixture's other part or the environment, then which portal or bin).
     bool sample_environment_mixed(vec3 ref, float u_select, vec2 u, LightSample& ls) const;
-    // The environment's pdf toward dir from ref then (without the selection probability p_env).
-    float environment_pdf_mixed(vec3 ref, vec3 dir) const;
+    // The environment's pdf toward dir from ref then (without the selection probability p_env), given the sky's own
+    // pdf toward dir.
+    float environment_pdf_mixed(vec3 ref, vec3 dir, float sky_pdf) const;
+    // light_pdf_escape of a shining environment, given the sky's own pdf toward dir.
+    float escape_pdf(vec3 ref, vec3 dir, float sky_pdf) const {
+        if (m_p_mix == 0.f) return m_p_env * m_environment.pdf_given_sky(dir, sky_pdf);
+        return m_p_env * environment_pdf_mixed(ref, dir, sky_pdf);
+    }
     // The mixture's other part: the portals', else the guide's.
     float mix_pdf(vec3 ref, vec3 dir) const {
         return m_p_portal > 0.f ? portal_pdf(ref, dir) : m_sky_guide->pdf(ref, dir);
