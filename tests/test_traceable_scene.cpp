@@ -159,7 +159,7 @@ TEST(TraceableScene, EscapeRadianceAndPdfInOneSearchAreTheSeparateValues) {
         map->environment_map = 0;
         map->environment.rotation_deg = -71.f;
     }
-    auto portals = with_sun(std::make_shared<Scene>(*map));
+    auto portals = std::make_shared<Scene>(*map);  // the map and its sun, with a portal
     portals->portals.push_back(Portal{vec3(-0.5f, 1.f, -0.5f), vec3(1.f, 0.f, 0.f), vec3(0.f, 0.f, 1.f)});
     struct Case {
         std::shared_ptr<Scene> scene;
@@ -169,7 +169,7 @@ TEST(TraceableScene, EscapeRadianceAndPdfInOneSearchAreTheSeparateValues) {
         {constant, "constant"}, {default_sky, "default sky"}, {map, "24x12 map"}, {portals, "24x12 map, portal"}};
     for (const Case& c : cases) {
         const TraceableScene ts(c.scene);
-        const Environment env(*c.scene);
+        const Environment& env = ts.environment();
         const vec3 ref(0.1f, 0.2f, -0.05f);
         std::vector<vec3> dirs;
         Pcg32 rng(11, 12);
