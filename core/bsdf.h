@@ -82,6 +82,23 @@ float fresnel_dielectric(float cos_i, float eta);
 float alpha_from_ns(float ns);
 constexpr float kMinAlpha = 1e-3f;
 
+// KHR_texture_transform on one texture reference: uv' = col0 * uv.x + col1 * uv.y + offset (the extension's offset,
+// rotation and scale composed), read from texture-coordinate set `set` (0: TEXCOORD_0 / OBJ vt, 1: TEXCOORD_1).
+// The default is the identity on set 0, which OBJ textures use.
+struct UvTransform {
+    vec2 col0{1.f, 0.f};
+    vec2 col1{0.f, 1.f};
+    vec2 offset{0.f};
+    uint32_t set = 0;
+    vec2 apply(vec2 uv) const { return col0 * uv.x + col1 * uv.y + offset; }
+    bool is_identity() const {
+        return col0 == vec2(1.f, 0.f) && col1 == vec2(0.f, 1.f) && offset == vec2(0.f) && set == 0;
+    }
+    bool operator==(const UvTransform& o) const {
+        return col0 == o.col0 && col1 == o.col1 && offset == o.offset && set == o.set;
+    }
+};
+
 // A material: a BSDF plus optional emission. Only what the MTL asked for is present.
 struct Material {
     std::string name = "default";
@@ -90,6 +107,10 @@ struct Material {
     bool two_sided_emission = false;
     uint32_t base_color_texture = kNoIndex;  // index into Scene::textures (map_Kd), replaces the base colour
     uint32_t alpha_texture = kNoIndex;       // index into Scene::textures (map_d): stochastic cut-out
+    // glTF's emissiveTexture (sRGB, decoded to linear): the emitted radiance at a point is emission x its texel
+    // (emission already holds emissiveFactor x KHR_materials_emissive_strength). kNoIndex: uniform emission.
+    uint32_t emissive_texture = kNoIndex;
+    UvTransform emissive_uv;  // where emissive_texture is read (Scene::texcoord)
     bool has_emission() const { return !is_black(emission); }
 };
 

@@ -117,6 +117,13 @@ void hash_material(Hasher& h, const Material& m) {
     h.value(uint8_t(m.two_sided_emission));
     h.value(m.base_color_texture);
     h.value(m.alpha_texture);
+    if (m.emissive_texture != kNoIndex || !m.emissive_uv.is_identity()) {  // glTF only: OBJ hashes as before
+        h.value(m.emissive_texture);
+        h.value(m.emissive_uv.col0);
+        h.value(m.emissive_uv.col1);
+        h.value(m.emissive_uv.offset);
+        h.value(m.emissive_uv.set);
+    }
 }
 
 uint64_t parse_u64(const std::string& s, bool& ok) {
@@ -201,6 +208,20 @@ uint64_t scene_hash(const Scene& scene, const std::vector<Material>& materials, 
     h.vector(scene.uvs);
     h.vector(scene.uv_indices);
     h.vector(scene.material_ids);
+    if (!scene.uvs1.empty() || !scene.punctual_lights.empty()) {  // glTF only: OBJ scenes hash as before
+        h.vector(scene.uvs1);
+        h.vector(scene.uv1_indices);
+        h.value(uint64_t(scene.punctual_lights.size()));
+        for (const PunctualLight& l : scene.punctual_lights) {
+            h.value(uint8_t(l.type));
+            h.value(l.position);
+            h.value(l.direction);
+            h.value(l.intensity);
+            h.value(l.range);
+            h.value(l.inner_cone_rad);
+            h.value(l.outer_cone_rad);
+        }
+    }
     h.value(uint64_t(materials.size()));
     for (const Material& m : materials) hash_material(h, m);
     h.value(uint64_t(scene.textures.size()));

@@ -64,6 +64,24 @@ struct Portal {
     vec3 edge2{0.f};
 };
 
+// A glTF KHR_lights_punctual light: a delta light, reached by next-event estimation only (no surface to hit).
+// intensity is colour x intensity as the file gives it, taken directly in pathview's radiometric units (as three.js
+// does): a point or spot light's radiant intensity (radiance x area, per steradian), so it gives the irradiance
+// intensity x cos / d^2 at distance d; a directional light's irradiance on a surface facing it. range > 0 applies
+// the extension's recommended falloff clamp(1 - (d / range)^4, 0, 1)^2 (times 1 / d^2); 0 is no range. A spot
+// light's intensity is scaled by the extension's smooth step between the outer and inner cone angles.
+struct PunctualLight {
+    enum class Type : uint8_t { Point, Spot, Directional };
+    Type type = Type::Point;
+    vec3 position{0.f};              // world space (point, spot)
+    vec3 direction{0.f, 0.f, -1.f};  // unit, world space: the way the light travels (spot, directional)
+    vec3 intensity{1.f};
+    float range = 0.f;
+    float inner_cone_rad = 0.f;            // spot: full intensity within this angle of `direction`
+    float outer_cone_rad = 0.7853981634f;  // spot: none beyond this one (glTF's default pi / 4)
+    std::string name;
+};
+
 struct Scene {
     std::vector<vec3> positions;
     std::vector<uvec3> triangles;       // indices into positions
@@ -71,6 +89,8 @@ struct Scene {
     std::vector<uvec3> normal_indices;  // per triangle, into normals; empty, or kNoIndex where absent
     std::vector<vec2> uvs;
     std::vector<uvec3> uv_indices;       // per triangle, into uvs; empty, or kNoIndex where absent
+    std::vector<vec2> uvs1;              // a second texture-coordinate set (glTF TEXCOORD_1); usually empty
+    std::vector<uvec3> uv1_indices;      // per triangle, into uvs1; empty, or kNoIndex where absent
     std::vector<uint32_t> material_ids;  // per triangle, into materials
     std::vector<Material> materials;
 
@@ -83,6 +103,8 @@ struct Scene {
     EnvironmentSettings environment;
     // Light portals toward the environment ("portals" in the JSON); empty: the environment is sampled alone.
     std::vector<Portal> portals;
+    // glTF KHR_lights_punctual lights, in world space (empty for OBJ scenes).
+    std::vector<PunctualLight> punctual_lights;
     bool has_camera = false;
     // Named camera views saved with the scene file ("bookmarks" in the JSON).
     struct Bookmark {
@@ -105,6 +127,17 @@ struct Scene {
         const uvec3 ti = uv_indices[prim];
         if (ti.x == kNoIndex) return vec2(0.f);
         return interpolate_uv(uvs[ti.x], uvs[ti.y], uvs[ti.z], u, v);
+    }
+    // The texture coordinate a texture reference reads at barycentrics (u, v): set 0 or 1, then its transform.
+    vec2 texcoord(uint32_t prim, float u, float v, const UvTransform& t) const {
+        vec2 uv(0.f);
+        if (t.set == 0) {
+            uv = uv_at(prim, u, v);
+        } else if (!uv1_indices.empty() && uv1_indices[prim].x != kNoIndex) {
+            const uvec3 ti = uv1_indices[prim];
+            uv = interpolate_uv(uvs1[ti.x], uvs1[ti.y], uvs1[ti.z], u, v);
+        }
+        return t.apply(uv);
     }
     // The uv at barycentrics (u, v) of vertices 1 and 2 between corner uvs a, b, c (one formula for every caller:
     // the packed records below give the same bits).
