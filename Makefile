@@ -18,7 +18,7 @@ CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DPATHVIEW_WERROR=ON
 export CCACHE_BASEDIR := $(CURDIR)
 export CCACHE_NOHASHDIR := 1
 
-.PHONY: deps build run test format-check format test-slurm test-release test-sanitize build-asan-fuzz test-asan test-tsan test-fuzz bench clean
+.PHONY: deps build run test format-check format test-slurm test-release test-sanitize build-asan-fuzz test-asan test-tsan test-fuzz bench benchmarks clean
 
 deps:
 	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q 'install ok installed' || echo $$p; done); \
@@ -106,7 +106,8 @@ test-fuzz: build-asan-fuzz
 bench: build
 	./$(BUILD)/pathview bench
 
-# Regenerates BENCHMARKS.md and bench/*.csv|svg in one run (about 10 minutes on 2 cores; scripts/benchmarks.sh).
+# Regenerates the generated sections of BENCHMARKS.md (in place) and bench/*.csv|svg in one run (about 10 minutes
+# on 2 cores; scripts/benchmarks.sh).
 benchmarks: build
 	scripts/benchmarks.sh $(BUILD)
 
