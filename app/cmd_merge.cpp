@@ -1,12 +1,15 @@
 // app/cmd_merge.cpp: `pathview merge OUT PART...`: adds partial renders of one image (core/partial.h) and writes
 // the result: an .exr is itself a partial render (mergeable and resumable; its R, G, B are the image), a .png the
 // tone-mapped mean. Every part is read and checked before anything is written.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 
 #include "app/commands.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "core/image_io.h"
 #include "core/partial.h"
 
@@ -33,16 +36,22 @@ void run(const MergeOptions& o) {
         if (!has_ext(out, ".exr", ".EXR") && !has_ext(out, ".png", ".PNG"))
             throw Error(out + ": unknown image format '" + std::filesystem::path(out).extension().string() +
                         "'; expected .exr or .png");
+    for (const std::string& out : outs) check_writable(out);  // every output before reading or writing anything
+    const std::string required =
+        o.require.empty() ? "" : format_ranges(parse_ranges(o.require, "--require " + quote_prefix(o.require)));
     std::vector<PartialRender> parts;
     for (const std::string& p : o.parts) parts.push_back(read_partial(p));
     const PartialRender merged = merge_partials(parts, o.parts);
-    if (!o.require.empty() &&
-        format_ranges(merged.ranges) != format_ranges(parse_ranges(o.require, "--require " + o.require)))
-        throw Error("--require " + o.require + ": the parts hold samples " + format_ranges(merged.ranges) +
-                    " (a part is missing or extra)");
+    if (!o.require.empty() && format_ranges(merged.ranges) != required)
+        throw Error("--require " + quote_prefix(o.require) + ": the parts hold samples " +
+                    format_ranges(merged.ranges) + " (a part is missing or extra)");
 
     Image image = merged.film.mean();
-    for (float& v : image.rgb) v *= std::exp2(o.exposure);
+    for (float& v : image.rgb) {
+        // Overflow saturates, as in `render`: the means are finite and non-negative.
+        const float scaled = v * std::exp2(o.exposure);
+        v = std::isfinite(scaled) ? scaled : std::numeric_limits<float>::max();
+    }
     for (const std::string& out : outs) {
         if (has_ext(out, ".exr", ".EXR"))
             write_partial(out, merged);
@@ -72,7 +81,9 @@ void add_merge_command(CLI::App& app) {
     cmd->add_option("--require", o->require,
                     "Refuse unless the parts hold exactly these sample indices (START:COUNT, e.g. 0:4096): catches a "
                     "missing shard");
-    cmd->add_option("--exposure", o->exposure, "Exposure in stops for PNG outputs")->capture_default_str();
+    cmd->add_option("--exposure", o->exposure, "Exposure in stops for PNG outputs")
+        ->check(finite_range(-64, 64))
+        ->capture_default_str();
     cmd->callback([o] { run(*o); });
 }
 

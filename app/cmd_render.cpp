@@ -69,20 +69,29 @@ std::string scene_flags(const CommonOptions& c) {
 
 // Parses scene_flags() text back into `c`'s scene overrides.
 void parse_scene_flags(const std::string& flags, const std::string& what, CommonOptions& c) {
+    CommonOptions parsed = c;
+    parsed.scene.clear();
     CLI::App parser;
-    add_common_options(parser, c);
+    add_common_options(parser, parsed);
     try {
         parser.parse(flags, false);
     } catch (const CLI::ParseError& e) {
-        throw Error(what + ": pathview:scene_flags '" + flags + "' cannot be parsed: " + e.what());
+        throw Error(what + ": pathview:scene_flags " + quote_prefix(flags) +
+                    " cannot be parsed: " + quote_prefix(e.what()));
     }
+    if (!parsed.scene.empty())
+        throw Error(what + ": pathview:scene_flags " + quote_prefix(flags) +
+                    " holds an argument that is not a flag; expected only --environment, --env-rotation, "
+                    "--env-strength, --sun, --sun-irradiance and --sun-radius");
+    parsed.scene = c.scene;
+    c = parsed;
 }
 
 // The sample range START:COUNT of --samples.
 SampleRange parse_samples(const std::string& text) {
-    const std::vector<SampleRange> r = parse_ranges(text, "--samples " + text);
+    const std::vector<SampleRange> r = parse_ranges(text, "--samples " + quote_prefix(text));
     if (r.size() != 1 || r[0].count > (1u << 30))
-        throw Error("--samples " + text + ": expected one START:COUNT with COUNT <= 2^30");
+        throw Error("--samples " + quote_prefix(text) + ": expected one START:COUNT with COUNT <= 2^30");
     return r[0];
 }
 
@@ -99,12 +108,18 @@ void run(RenderOptions& o) {
     // A partial render: --samples START:COUNT renders those indices; --resume continues a part after its last index.
     std::optional<SampleRange> samples;
     std::optional<PartialRender> resumed;
+    // The layers of --aovs and --denoise are not part of the partial format: refused rather than dropped.
+    if ((o.aovs || o.denoise) && (!o.shard.empty() || !o.samples.empty() || !o.resume.empty()))
+        throw Error(std::string(o.aovs ? "--aovs" : "--denoise") + " with " +
+                    (!o.shard.empty()     ? "--shard"
+                     : !o.samples.empty() ? "--samples"
+                                          : "--resume") +
+                    ": a partial render holds only the film's sums, not feature layers or a denoised image; render "
+                    "the parts without it (merge them, then denoise a full render)");
     if (!o.shard.empty()) {
-        unsigned index = 0, shards = 0;
-        int used = 0;
-        if (std::sscanf(o.shard.c_str(), "%u/%u%n", &index, &shards, &used) != 2 || size_t(used) != o.shard.size())
-            throw Error("--shard " + o.shard + ": expected INDEX/COUNT, e.g. 3/16");
-        samples = shard_range(index, shards, uint32_t(*o.spp));
+        uint64_t index = 0, shards = 0;
+        parse_shard(o.shard, index, shards);
+        samples = shard_range(index, shards, uint64_t(*o.spp));
         o.spp = int(samples->count);
     }
     if (!o.samples.empty()) {
@@ -117,11 +132,16 @@ void run(RenderOptions& o) {
                 throw Error("--resume " + o.resume + ": " + flag + " comes from the part; leave it out");
         resumed = read_partial(o.resume);
         parse_scene_flags(resumed->info["pathview:scene_flags"], o.resume, o.common);
-        if (o.common.scene.empty()) o.common.scene = resumed->info["pathview:scene"];
-        samples = SampleRange{uint32_t(resumed->ranges.back().end()), 0};
-        if (resumed->ranges.back().end() + uint64_t(o.spp.value_or(0)) > (uint64_t(1) << 32))
-            throw Error("--resume " + o.resume + ": the part ends at sample " +
-                        std::to_string(resumed->ranges.back().end()) + "; no room for more sample indices");
+        if (o.common.scene.empty()) {
+            o.common.scene = resumed->info["pathview:scene"];
+            if (o.common.scene.size() > 4096)  // PATH_MAX: not a path this system can open
+                throw Error("--resume " + o.resume + ": pathview:scene " + quote_prefix(o.common.scene) +
+                            " is longer than a path can be; give the scene file as an argument");
+        }
+        samples = SampleRange{resumed->ranges.back().end(), 0};
+        if (samples->start + uint64_t(o.spp.value_or(1)) > kSampleIndexLimit)
+            throw Error("--resume " + o.resume + ": the part ends at sample " + std::to_string(samples->start) +
+                        "; no room for " + std::to_string(o.spp.value_or(1)) + " more sample indices below 2^32");
     }
     // A partial render samples every pixel at each of its indices, so that its parts merge into what one `render
     // --adaptive off` gives; --adaptive on is honoured when asked for (each pixel then takes indices from the start of
@@ -186,7 +206,7 @@ void run(RenderOptions& o) {
                         "the one the part was rendered from (scene hash differs)");
         renderer.load_film(resumed->film);
     }
-    if (samples) renderer.set_next_sample(samples->start);
+    if (samples) renderer.set_next_sample(uint32_t(samples->start));  // below 2^32: checked above
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
     ProgressBar bar(!o.quiet);
@@ -194,6 +214,8 @@ void run(RenderOptions& o) {
         const double t = elapsed();
         const RenderStats& st = renderer.stats();
         if (o.spp && st.spp >= static_cast<uint32_t>(*o.spp)) break;
+        // A partial render with --time: at most COUNT samples (--samples), never past the index space (--resume).
+        if (samples && st.spp >= (samples->count ? samples->count : kSampleIndexLimit - samples->start)) break;
         if (o.seconds && t >= *o.seconds && st.spp > 0) break;
         if (renderer.converged()) break;
         if (bar.enabled()) bar.draw(o.spp ? double(st.spp) / *o.spp : t / *o.seconds, spp_and_seconds(st.spp, t));

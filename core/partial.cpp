@@ -127,14 +127,33 @@ void hash_material(Hasher& h, const Material& m) {
 }
 
 uint64_t parse_u64(const std::string& s, bool& ok) {
-    char* end = nullptr;
-    errno = 0;
-    const unsigned long long v = std::strtoull(s.c_str(), &end, 10);
-    ok = !s.empty() && end && *end == '\0' && errno == 0 && s[0] != '-';
-    return v;
+    const std::optional<uint64_t> v = parse_decimal(s);
+    ok = v.has_value();
+    return v.value_or(0);
 }
 
 }  // namespace
+
+std::optional<uint64_t> parse_decimal(const std::string& s, uint64_t max) {
+    if (s.empty() || s.size() > 20 || (s.size() > 1 && s[0] == '0')) return std::nullopt;
+    uint64_t v = 0;
+    for (const char c : s) {
+        if (c < '0' || c > '9') return std::nullopt;
+        const uint64_t d = uint64_t(c - '0');
+        if (v > (max - d) / 10) return std::nullopt;  // v * 10 + d > max
+        v = v * 10 + d;
+    }
+    return v;
+}
+
+std::string quote_prefix(const std::string& s) {
+    constexpr size_t kShown = 48;
+    std::string shown = s.size() <= kShown + 16 ? s : s.substr(0, kShown);
+    for (char& c : shown)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';  // one line, no terminal controls
+    if (shown.size() == s.size()) return "'" + shown + "'";
+    return "'" + shown + "...' (" + std::to_string(s.size()) + " bytes)";
+}
 
 std::string partial_version() { return std::string("pathview ") + kVersion + ", partial format " + kFormat; }
 
@@ -169,25 +188,43 @@ void normalize_ranges(std::vector<SampleRange>& ranges, const std::string& what)
 
 std::vector<SampleRange> parse_ranges(const std::string& text, const std::string& what) {
     std::vector<SampleRange> out;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
+    size_t pos = 0;
+    while (!text.empty()) {
+        const size_t comma = text.find(',', pos);
+        const std::string item = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
         const size_t colon = item.find(':');
-        bool ok_a = false, ok_b = false;
-        const uint64_t a = colon == std::string::npos ? 0 : parse_u64(item.substr(0, colon), ok_a);
-        const uint64_t b = colon == std::string::npos ? 0 : parse_u64(item.substr(colon + 1), ok_b);
-        if (!ok_a || !ok_b || b == 0 || a + b > (uint64_t(1) << 32))
-            throw Error(what + ": sample range '" + item +
-                        "'; expected START:COUNT with COUNT > 0 and "
-                        "START + COUNT <= 2^32");
-        out.push_back({uint32_t(a), uint32_t(b)});
+        const std::optional<uint64_t> a =
+            colon == std::string::npos ? std::nullopt : parse_decimal(item.substr(0, colon), kSampleIndexLimit);
+        const std::optional<uint64_t> b =
+            colon == std::string::npos ? std::nullopt : parse_decimal(item.substr(colon + 1), kSampleIndexLimit);
+        if (!a || !b || *b == 0 || *a + *b > kSampleIndexLimit)
+            throw Error(what + ": sample range " + quote_prefix(item) +
+                        "; expected START:COUNT (decimal digits, no sign, spaces or leading zeros) with COUNT > 0 "
+                        "and START + COUNT <= 2^32, ranges separated by single commas");
+        out.push_back({*a, *b});
+        if (comma == std::string::npos) break;
+        pos = comma + 1;
     }
     if (out.empty()) throw Error(what + ": no sample range; expected START:COUNT[,START:COUNT...]");
     normalize_ranges(out, what);
     return out;
 }
 
-SampleRange shard_range(uint32_t index, uint32_t shards, uint32_t total) {
+void parse_shard(const std::string& text, uint64_t& index, uint64_t& shards) {
+    const size_t slash = text.find('/');
+    const std::optional<uint64_t> i =
+        slash == std::string::npos ? std::nullopt : parse_decimal(text.substr(0, slash), kSampleIndexLimit);
+    const std::optional<uint64_t> n =
+        slash == std::string::npos ? std::nullopt : parse_decimal(text.substr(slash + 1), kSampleIndexLimit);
+    if (!i || !n || *n == 0 || *i >= *n)
+        throw Error("--shard " + quote_prefix(text) +
+                    ": expected INDEX/COUNT in decimal digits (no sign, spaces or leading zeros) with "
+                    "0 <= INDEX < COUNT, e.g. 3/16");
+    index = *i;
+    shards = *n;
+}
+
+SampleRange shard_range(uint64_t index, uint64_t shards, uint64_t total) {
     if (shards == 0 || index >= shards)
         throw Error("--shard " + std::to_string(index) + "/" + std::to_string(shards) +
                     ": expected INDEX/COUNT with 0 <= INDEX < COUNT");
@@ -195,7 +232,7 @@ SampleRange shard_range(uint32_t index, uint32_t shards, uint32_t total) {
         throw Error("--shard " + std::to_string(index) + "/" + std::to_string(shards) + ": " + std::to_string(total) +
                     " samples cannot fill " + std::to_string(shards) + " shards; use at most " + std::to_string(total) +
                     " shards");
-    const uint32_t base = total / shards, extra = total % shards;
+    const uint64_t base = total / shards, extra = total % shards;
     return {index * base + std::min(index, extra), base + (index < extra ? 1u : 0u)};
 }
 
@@ -259,8 +296,8 @@ CameraDesc parse_camera(const std::string& text, const std::string& what) {
                                 &c.eye.x, &c.eye.y, &c.eye.z, &c.target.x, &c.target.y, &c.target.z, &c.up.x, &c.up.y,
                                 &c.up.z, &c.vfov_deg, &c.aperture, &c.focus_distance, &used);
     if (got != 12 || size_t(used) != text.size() || camera_text(c) != text)
-        throw Error(what + ": camera '" + text +
-                    "' is malformed; expected --eye x,y,z --target x,y,z --up x,y,z "
+        throw Error(what + ": camera " + quote_prefix(text) +
+                    " is malformed; expected --eye x,y,z --target x,y,z --up x,y,z "
                     "--fov f --aperture a --focus-distance d");
     return c;
 }
@@ -293,7 +330,7 @@ RenderSettings parse_settings(const std::string& text, const std::string& what) 
             ok = false;
     }
     if (!ok || s.describe() != text)
-        throw Error(what + ": settings '" + text + "' are not understood by " + partial_version());
+        throw Error(what + ": settings " + quote_prefix(text) + " are not understood by " + partial_version());
     return s;
 }
 
@@ -418,8 +455,8 @@ PartialRender read_partial(const std::string& path) {
                                 ": not a partial render (no pathview:partial attribute); expected a file written by "
                                 "`pathview render --samples`, `--resume` or `pathview merge`");
                 if (attrs["pathview:partial"] != kFormat || attr("pathview:version") != partial_version())
-                    throw Error(path + ": written by " + attrs["pathview:version"] + " (format " +
-                                attrs["pathview:partial"] + "); this is " + partial_version() +
+                    throw Error(path + ": written by " + quote_prefix(attrs["pathview:version"]) + " (format " +
+                                quote_prefix(attrs["pathview:partial"]) + "); this is " + partial_version() +
                                 ", which reads only its own partial renders");
 
                 const Imath::Box2i dw = header.dataWindow();
@@ -430,7 +467,7 @@ PartialRender read_partial(const std::string& path) {
                 const std::string hash = attr("pathview:scene_hash");
                 part.id.scene_hash = std::strtoull(hash.c_str(), nullptr, 16);
                 if (hash.size() != 16 || hash.find_first_not_of("0123456789abcdef") != std::string::npos)
-                    throw Error(path + ": pathview:scene_hash '" + hash + "' is not 16 hex digits");
+                    throw Error(path + ": pathview:scene_hash " + quote_prefix(hash) + " is not 16 hex digits");
                 part.id.settings = attr("pathview:settings");
                 parse_settings(part.id.settings, path);
                 part.id.camera = attr("pathview:partial:camera");
@@ -519,8 +556,8 @@ PartialRender merge_partials(const std::vector<PartialRender>& parts, const std:
         const PartialRender& p = parts[order[k]];
         const std::string& name = names[order[k]];
         auto mismatch = [&](const std::string& what, const std::string& mine, const std::string& theirs) {
-            throw Error(name + ": " + what + " '" + mine + "' differs from " + first_name + "'s '" + theirs +
-                        "'; parts of one render must agree");
+            throw Error(name + ": " + what + " " + quote_prefix(mine) + " differs from " + first_name + "'s " +
+                        quote_prefix(theirs) + "; parts of one render must agree");
         };
         if (p.id.version != first.id.version) mismatch("version", p.id.version, first.id.version);
         if (p.id.scene_hash != first.id.scene_hash)

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,12 +31,20 @@ namespace pv {
 
 class Renderer;
 
-// Sample indices [start, start + count).
+// Sample indices [start, start + count), within the sampler's index space [0, 2^32). 64-bit, so that no sum of
+// starts and counts wraps (a part claiming 4:4294967292 merged with 0:4 is 0:4294967296, not 0:0).
 struct SampleRange {
-    uint32_t start = 0;
-    uint32_t count = 0;
-    uint64_t end() const { return uint64_t(start) + count; }
+    uint64_t start = 0;
+    uint64_t count = 0;
+    uint64_t end() const { return start + count; }
 };
+constexpr uint64_t kSampleIndexLimit = uint64_t(1) << 32;  // sample indices are below this
+
+// Strict decimal: digits only (no sign, space or leading zero other than "0" itself), at most `max`. nullopt
+// otherwise.
+std::optional<uint64_t> parse_decimal(const std::string& s, uint64_t max = ~uint64_t(0));
+// `s` quoted for an error line: whole if short, else its first 48 characters, "..." and its length.
+std::string quote_prefix(const std::string& s);
 // "0:16,32:16"; parse_ranges throws pv::Error ("<what>: ...") on anything else, or on overlapping ranges.
 std::string format_ranges(const std::vector<SampleRange>& ranges);
 std::vector<SampleRange> parse_ranges(const std::string& text, const std::string& what);
@@ -44,7 +53,9 @@ void normalize_ranges(std::vector<SampleRange>& ranges, const std::string& what)
 
 // Shard `index` of `shards` of the sample indices [0, total): contiguous ranges in order, the first total % shards
 // one sample longer, so that the shards tile [0, total). Throws pv::Error if index >= shards or total < shards.
-SampleRange shard_range(uint32_t index, uint32_t shards, uint32_t total);
+SampleRange shard_range(uint64_t index, uint64_t shards, uint64_t total);
+// "I/N" of --shard, strictly (parse_decimal's rules, N >= 1, I < N); throws pv::Error saying what was expected.
+void parse_shard(const std::string& text, uint64_t& index, uint64_t& shards);
 
 // What must agree for two partial renders to merge.
 struct RenderIdentity {

@@ -196,7 +196,15 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
             const Ptr at = root / "bookmarks" / i;
             const json& b = rs.object(list[i], at, {});
             std::string name = "view " + std::to_string(scene.bookmarks.size() + 1);
-            if (b.contains("name")) name = r.string(b["name"], at / "name");
+            if (b.contains("name")) {
+                name = r.string(b["name"], at / "name");
+                if (name.empty()) r.fail(at / "name", "empty; expected the bookmark's name (a non-empty string)");
+            } else {
+                scene.warnings.push_back(path + ": " + at.to_string() +
+                                         ": no \"name\"; expected the bookmark's name (a non-empty string); "
+                                         "listed as '" +
+                                         name + "'");
+            }
             scene.bookmarks.push_back(Scene::Bookmark{name, read_camera(rs, b, at, scene.camera, true)});
         }
     }

@@ -195,11 +195,11 @@ TEST(ShardFormat, ShardsTileTheSampleRange) {
     for (uint32_t total : {1u, 7u, 64u, 100u, 4096u})
         for (uint32_t shards : {1u, 3u, 4u, 7u})
             if (shards <= total) {
-                uint32_t next = 0, shortest = total, longest = 0;
+                uint64_t next = 0, shortest = total, longest = 0;
                 for (uint32_t i = 0; i < shards; ++i) {
                     const SampleRange r = shard_range(i, shards, total);
                     EXPECT_EQ(r.start, next) << total << " " << shards << " " << i;
-                    next = uint32_t(r.end());
+                    next = r.end();
                     shortest = std::min(shortest, r.count);
                     longest = std::max(longest, r.count);
                 }
@@ -210,10 +210,107 @@ TEST(ShardFormat, ShardsTileTheSampleRange) {
     EXPECT_THROW(shard_range(0, 8, 4), Error);
 }
 
+// Issue 26, defects 1 and 11: --shard is strict decimal, never a wrapped number.
+TEST(ShardFormat, ShardTextIsStrict) {
+    uint64_t i = 9, n = 9;
+    parse_shard("3/16", i, n);
+    EXPECT_EQ(i, 3u);
+    EXPECT_EQ(n, 16u);
+    parse_shard("0/1", i, n);
+    EXPECT_EQ(n, 1u);
+    for (const char* bad : {"-1/4", "+1/4", " 1/4", "1/4 ", "01/4", "1/04", "4294967296/4294967297",
+                            "1/18446744073709551617", "4/4", "0/0", "1/", "/4", "1", "1/4/2", "0x1/4", "1.0/4"}) {
+        const std::string text = bad;
+        try {
+            parse_shard(text, i, n);
+            ADD_FAILURE() << "accepted '" << text << "' as " << i << "/" << n;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("expected INDEX/COUNT"), std::string::npos) << e.what();
+        }
+    }
+    // 2^32 shards parse as themselves, and then cannot be filled by any --spp.
+    parse_shard("0/4294967296", i, n);
+    EXPECT_EQ(n, uint64_t(1) << 32);
+    try {
+        shard_range(i, n, 64);
+        ADD_FAILURE() << "64 samples in 2^32 shards";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("0/4294967296: 64 samples cannot fill 4294967296 shards"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(ShardFormat, RangesParseAndJoin) {
     EXPECT_EQ(format_ranges(parse_ranges("16:16,0:16,40:8", "x")), "0:32,40:8");
     for (const char* bad : {"", "5", "1:0", "a:3", "-1:3", "4294967295:2", "0:8,4:8"})
         EXPECT_THROW(parse_ranges(bad, "x"), Error) << bad;
+    // Issue 26, defect 11: strict decimal digits and separators.
+    for (const char* bad : {"4:+4", " 4:4", "4: 4", "04:4", "4:04", "4:4,", ",4:4", "4:4,,8:1", "4:4 ", "+4:4", "0x4:4",
+                            "4:4e0", "4::4", "4:4:4"})
+        EXPECT_THROW(parse_ranges(bad, "x"), Error) << bad;
+    EXPECT_EQ(format_ranges(parse_ranges("0:1", "x")), "0:1");
+    EXPECT_EQ(format_ranges(parse_ranges("0:4294967296", "x")), "0:4294967296");
+    // Issue 26, defect 1: 64-bit arithmetic: joined ranges never wrap at 2^32, overflowing text is refused.
+    EXPECT_EQ(format_ranges(parse_ranges("4:4294967292,0:4", "x")), "0:4294967296");
+    for (const char* bad : {"0:4294967297", "4294967296:1", "18446744073709551615:1", "1:18446744073709551615",
+                            "18446744073709551616:1", "4:4294967293"})
+        EXPECT_THROW(parse_ranges(bad, "x"), Error) << bad;
+}
+
+// Issue 26, defect 1: a merge of 0:4 and 4:4294967292 is 0:4294967296 (not 0:0), and it reads back.
+TEST(ShardFormat, RangesJoinedUpToTheIndexLimitReadBack) {
+    const TempDir dir;
+    Renderer& r = cornell_renderer();
+    const PartialRender a = render_part(r, settings_with(SamplerKind::Sobol), 0, 4);
+    PartialRender b = render_part(r, settings_with(SamplerKind::Sobol), 4, 1);
+    b.ranges = {{4, 4294967292ull}};
+    const PartialRender m = merge_partials({a, b}, {"a.exr", "b.exr"});
+    EXPECT_EQ(format_ranges(m.ranges), "0:4294967296");
+    EXPECT_EQ(m.sample_count(), uint64_t(1) << 32);
+    write_partial(dir / "m.exr", m);
+    EXPECT_EQ(format_ranges(read_partial(dir / "m.exr").ranges), "0:4294967296");
+}
+
+// Issue 26, defect 8: an attribute string is quoted by a short prefix, not whole.
+TEST(ShardBadInput, HugeAttributeStringsAreQuotedShort) {
+    const TempDir dir;
+    Renderer& r = cornell_renderer();
+    PartialRender p = render_part(r, settings_with(SamplerKind::Sobol), 0, 1);
+    const PartialRender good = p;
+    p.id.settings = std::string(1 << 20, 'x');
+    write_partial(dir / "settings.exr", p);
+    p = good;
+    p.id.camera = std::string(1 << 20, 'c');
+    write_partial(dir / "camera.exr", p);
+    p = good;
+    p.id.version = std::string(1 << 20, 'v');
+    write_partial(dir / "version.exr", p);
+    for (const char* name : {"settings.exr", "camera.exr", "version.exr"}) {
+        std::string message;
+        try {
+            read_partial(dir / name);
+        } catch (const Error& e) {
+            message = e.what();
+        }
+        EXPECT_NE(message, "") << name;
+        EXPECT_LT(message.size(), 600u) << name;
+        EXPECT_NE(message.find("(1048576 bytes)"), std::string::npos) << message.substr(0, 600);
+    }
+    // Mismatching identities in a merge: both sides quoted short.
+    PartialRender q = render_part(r, settings_with(SamplerKind::Sobol), 1, 1);
+    PartialRender other = good;
+    other.id.camera = std::string(1 << 20, 'c');
+    std::string message;
+    try {
+        merge_partials({other, q}, {"a.exr", "b.exr"});
+    } catch (const Error& e) {
+        message = e.what();
+    }
+    EXPECT_NE(message.find("camera"), std::string::npos) << message.substr(0, 600);
+    EXPECT_LT(message.size(), 600u);
+    EXPECT_EQ(quote_prefix("short"), "'short'");
+    EXPECT_EQ(quote_prefix("a\nb"), "'a?b'");
 }
 
 // ---------------------------------------------------------------- bad parts
@@ -270,7 +367,7 @@ TEST(ShardBadInput, DamagedForeignAndTruncatedFilesAreRefused) {
     other_version.id.version = "pathview 0.0, partial format 1";
     write_partial(dir / "old.exr", other_version);
     expect_one_line_naming(error_of([&] { read_partial(dir / "old.exr"); }), dir / "old.exr",
-                           "written by pathview 0.0");
+                           "written by 'pathview 0.0");
 
     write_exr(dir / "plain.exr", part.film.mean());
     expect_one_line_naming(error_of([&] { read_partial(dir / "plain.exr"); }), dir / "plain.exr",

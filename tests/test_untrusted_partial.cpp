@@ -1,0 +1,201 @@
+// tests/test_untrusted_partial.cpp: partial renders from strangers (issue 26). `pathview merge` and `render
+// --resume` read partial EXRs from other machines and old runs: 64-bit sample ranges that never wrap, strict range
+// and shard text, finite flags, every output checked before anything is written, refused combinations, short quotes
+// of hostile attribute strings, and the merge's memory budget. Each case runs the program: exit code, one line
+// naming the file, nothing at the output.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cfloat>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/partial.h"
+#include "core/texture.h"
+#include "tests/support/cli.h"
+
+namespace pv {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kSize = " --width 16 --height 12 --threads 2 -q";
+
+struct Dir {
+    fs::path path;
+    Dir() {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        path = fs::temp_directory_path() / ("pathview_partial_" + std::to_string(::getpid()) + "_" + info->name());
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~Dir() {
+        std::error_code ec;
+        fs::remove_all(path, ec);
+    }
+    // Quoted for the shell.
+    std::string operator/(const std::string& name) const { return "'" + (path / name).string() + "'"; }
+    std::string file(const std::string& name) const { return (path / name).string(); }
+    bool only(const std::vector<std::string>& names) const {  // the folder holds exactly these files
+        size_t n = 0;
+        for (const auto& e : fs::directory_iterator(path)) {
+            ++n;
+            if (std::find(names.begin(), names.end(), e.path().filename().string()) == names.end()) return false;
+        }
+        return n == names.size();
+    }
+};
+
+test::RunResult pathview(const std::string& args) { return test::run_command(PATHVIEW_BINARY, args); }
+
+bool has(const std::string& s, const std::string& needle) { return s.find(needle) != std::string::npos; }
+
+// A refusal: non-zero exit, one line on stderr holding every needle.
+void expect_refused(const test::RunResult& r, const std::vector<std::string>& needles) {
+    EXPECT_NE(r.exit_code, 0) << r.out;
+    EXPECT_EQ(test::line_count(r.err), 1u) << r.err.substr(0, 2000);
+    for (const std::string& n : needles) EXPECT_TRUE(has(r.err, n)) << "no '" << n << "' in " << r.err.substr(0, 2000);
+}
+
+// Renders part `range` of the box into `name` (a partial EXR).
+void render_part(const Dir& d, const std::string& range, const std::string& name) {
+    const test::RunResult r = pathview("render --samples " + range + kSize + " -o " + d / name);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+}
+
+// Defect 1: ranges are 64-bit: 0:4 and 4:4294967292 merge into 0:4294967296, which reads back and resumes no further.
+TEST(UntrustedPartial, SampleRangesNeverWrapAt2To32) {
+    const Dir d;
+    render_part(d, "0:4", "a.exr");
+    render_part(d, "4:1", "b1.exr");
+    PartialRender b = read_partial(d.file("b1.exr"));
+    b.ranges = {{4, 4294967292ull}};
+    write_partial(d.file("b.exr"), b);
+
+    const test::RunResult m =
+        pathview("merge --require 0:4294967296 " + d / "m.exr" + " " + d / "a.exr" + " " + d / "b.exr");
+    EXPECT_EQ(m.exit_code, 0) << m.err;
+    EXPECT_TRUE(has(m.out, "samples 0:4294967296 (4294967296 spp)")) << m.out;
+    EXPECT_EQ(format_ranges(read_partial(d.file("m.exr")).ranges), "0:4294967296");
+    // --require of all 2^32 indices is not met by 0:5.
+    expect_refused(pathview("merge --require 0:4294967296 " + d / "n.png" + " " + d / "a.exr" + " " + d / "b1.exr"),
+                   {"--require '0:4294967296'", "hold samples 0:5"});
+    EXPECT_FALSE(fs::exists(d.file("n.png")));
+    // A part that ends at index 2^32 leaves no room: refused before rendering, naming the file.
+    for (const char* more : {" --spp 1", " --time 0.01", ""}) {
+        const test::RunResult r = pathview("render --resume " + d / "m.exr" + more + " -q -o " + d / "r.exr");
+        expect_refused(r, {d.file("m.exr"), "ends at sample 4294967296"});
+        EXPECT_FALSE(fs::exists(d.file("r.exr")));
+    }
+    // 2^32 samples in one process: refused, not 0 spp.
+    expect_refused(pathview("render --samples 0:4294967296" + kSize + " -o " + d / "x.png"),
+                   {"--samples '0:4294967296'", "COUNT <= 2^30"});
+    EXPECT_FALSE(fs::exists(d.file("x.png")));
+    // Shards report the numbers given, never wrapped ones.
+    expect_refused(pathview("render --spp 8 --shard 0/4294967296" + kSize + " -o " + d / "x.exr"),
+                   {"0/4294967296", "8 samples cannot fill 4294967296 shards"});
+    expect_refused(pathview("render --spp 8 --shard -1/4" + kSize + " -o " + d / "x.exr"),
+                   {"--shard '-1/4'", "expected INDEX/COUNT"});
+    EXPECT_FALSE(fs::exists(d.file("x.exr")));
+}
+
+// Defect 11: strict text for --samples, --require and --shard.
+TEST(UntrustedPartial, RangeAndShardTextIsStrict) {
+    const Dir d;
+    for (const char* bad : {"4:+4", "' 4:4'", "04:4", "4:4,", "4:4,,5:1", "+4:4"}) {
+        const test::RunResult r = pathview("render --samples " + std::string(bad) + kSize + " -o " + d / "x.exr");
+        expect_refused(r, {"--samples", "expected START:COUNT"});
+    }
+    for (const char* bad : {"+1/4", "01/4", "1/4,", "' 1/4'"})
+        expect_refused(pathview("render --spp 8 --shard " + std::string(bad) + kSize + " -o " + d / "x.exr"),
+                       {"--shard", "expected INDEX/COUNT"});
+    EXPECT_TRUE(d.only({}));
+}
+
+// Defect 4: merge's --exposure is finite and within render's range; a large one saturates in the PNG.
+TEST(UntrustedPartial, MergeExposureIsFinite) {
+    const Dir d;
+    render_part(d, "0:2", "a.exr");
+    for (const char* bad : {"nan", "inf", "-inf", "1e9", "65"}) {
+        const test::RunResult r =
+            pathview("merge --exposure " + std::string(bad) + " " + d / "m.png" + " " + d / "a.exr");
+        EXPECT_NE(r.exit_code, 0) << bad;
+        EXPECT_TRUE(has(r.err.substr(0, r.err.find('\n')), "not a finite number in [-64, 64]")) << bad << r.err;
+        EXPECT_FALSE(fs::exists(d.file("m.png"))) << bad;
+    }
+    const test::RunResult ok = pathview("merge --exposure 64 " + d / "m.png" + " " + d / "a.exr");
+    EXPECT_EQ(ok.exit_code, 0) << ok.err;
+    float brightest = 0.f;
+    for (const vec4& t : Texture::load(d.file("m.png")).texels()) brightest = std::max(brightest, t.x);
+    EXPECT_EQ(brightest, 1.f);  // the lit pixels saturate to white, not NaN-to-black
+}
+
+// Defect 5: every output is checked before the first is written.
+TEST(UntrustedPartial, MergeChecksEveryOutputFirst) {
+    const Dir d;
+    render_part(d, "0:2", "a.exr");
+    const test::RunResult r =
+        pathview("merge " + d / "m.exr" + " " + d / "a.exr" + " -o " + d / "missing/dir/out.png -o " + d / "m.png");
+    expect_refused(r, {d.file("missing/dir/out.png"), "does not exist"});
+    EXPECT_TRUE(d.only({"a.exr"}));
+}
+
+// Defect 7: --aovs and --denoise with a partial render are refused (a part holds only the film's sums).
+TEST(UntrustedPartial, LayersWithPartialRendersAreRefused) {
+    const Dir d;
+    render_part(d, "0:2", "a.exr");
+    for (const char* flag : {"--aovs", "--denoise"}) {
+        expect_refused(pathview("render --samples 0:2 " + std::string(flag) + kSize + " -o " + d / "x.exr"),
+                       {flag, "with --samples", "a partial render holds only"});
+        expect_refused(pathview("render --spp 4 --shard 0/2 " + std::string(flag) + kSize + " -o " + d / "x.exr"),
+                       {flag, "with --shard"});
+        expect_refused(pathview("render --resume " + d / "a.exr" + " --spp 1 -q " + flag + " -o " + d / "x.exr"),
+                       {flag, "with --resume"});
+    }
+    EXPECT_TRUE(d.only({"a.exr"}));
+}
+
+// Defect 8: a 1 MB attribute string is quoted by a short prefix in the one error line.
+TEST(UntrustedPartial, HugeAttributeStringsGiveAShortErrorLine) {
+    const Dir d;
+    render_part(d, "0:2", "a.exr");
+    PartialRender p = read_partial(d.file("a.exr"));
+    p.id.settings = std::string(1 << 20, 'x');
+    write_partial(d.file("s.exr"), p);
+    p = read_partial(d.file("a.exr"));
+    p.info["pathview:scene_flags"] = std::string(1 << 20, '-');
+    write_partial(d.file("f.exr"), p);
+    const test::RunResult m = pathview("merge " + d / "m.exr" + " " + d / "s.exr");
+    expect_refused(m, {d.file("s.exr"), "(1048576 bytes)"});
+    EXPECT_LT(m.err.size(), 400u);
+    const test::RunResult r = pathview("render --resume " + d / "f.exr" + " --spp 1 -q -o " + d / "r.exr");
+    expect_refused(r, {d.file("f.exr"), "pathview:scene_flags", "(1048576 bytes)"});
+    EXPECT_LT(r.err.size(), 600u);
+    p = read_partial(d.file("a.exr"));
+    p.info["pathview:scene"] = std::string(1 << 20, 'p');
+    write_partial(d.file("p.exr"), p);
+    const test::RunResult q = pathview("render --resume " + d / "p.exr" + " --spp 1 -q -o " + d / "r.exr");
+    expect_refused(q, {d.file("p.exr"), "pathview:scene", "(1048576 bytes)"});
+    EXPECT_LT(q.err.size(), 600u);
+    EXPECT_FALSE(fs::exists(d.file("r.exr")));
+}
+
+// Defect 11: a bookmark without a name is listed with a warning saying what was expected; an empty name is an error.
+TEST(UntrustedPartial, NamelessBookmarksAreNotSilent) {
+    const Dir d;
+    const std::string obj = std::string(PATHVIEW_FUZZ_DIR) + "/../../assets/cornell-box/cornell-box.obj";
+    std::ofstream(d.file("s.json")) << R"({"obj": ")" << obj << R"(", "bookmarks": [{"eye": [278, 273, -800]}]})";
+    const test::RunResult r =
+        pathview("render " + d / "s.json" + " --bookmark 'view 1' --spp 1" + kSize + " -o " + d / "x.png");
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_TRUE(has(r.err, "/bookmarks/0: no \"name\"; expected the bookmark's name")) << r.err;
+    std::ofstream(d.file("e.json")) << R"({"obj": ")" << obj << R"(", "bookmarks": [{"name": ""}]})";
+    expect_refused(pathview("render " + d / "e.json" + " --spp 1" + kSize + " -o " + d / "y.png"),
+                   {d.file("e.json"), "/bookmarks/0/name: empty"});
+    EXPECT_FALSE(fs::exists(d.file("y.png")));
+}
+
+}  // namespace
+}  // namespace pv
