@@ -99,7 +99,7 @@ test-fuzz: build-asan-fuzz
 	@set -e; for f in $(FUZZERS); do name=$${f%%:*}; rest=$${f#*:}; seeds=$${rest%%:*}; runs=$${rest#*:}; \
 	  rm -rf build-asan-fuzz/$$seeds.new && mkdir -p build-asan-fuzz/$$seeds.new; \
 	  echo "make test-fuzz: $$name, $$runs runs from tests/fuzz/$$seeds"; \
-	  ./build-asan-fuzz/tests/fuzz/$$name -seed=1 -runs=$$runs -max_total_time=$(FUZZ_SECONDS) -timeout=10 \
+	  ./build-asan-fuzz/tests/fuzz/$$name -seed=1 -runs=$$runs -max_total_time=$(FUZZ_SECONDS) -timeout=60 \
 	    -rss_limit_mb=2048 -print_final_stats=1 build-asan-fuzz/$$seeds.new tests/fuzz/$$seeds; \
 	done
 

@@ -64,8 +64,12 @@ struct ChildResult {
     long max_rss_kb = 0;
 };
 
+// Deadline of every bounded run: a hang (the old code's fault), never slowness. Long enough for a sanitizer build
+// on a loaded machine (issue 26): no test asserts that work ends within a shorter interval.
+constexpr int kDeadlineSeconds = 300;
+
 // Runs `fn` in a forked child (its return value is the exit code), killed after `seconds`.
-ChildResult run_bounded(const std::function<int()>& fn, double seconds = 30.0) {
+ChildResult run_bounded(const std::function<int()>& fn, double seconds = kDeadlineSeconds) {
     std::fflush(nullptr);
     const pid_t pid = ::fork();
     if (pid == 0) {
@@ -123,7 +127,7 @@ int expect_error_child(const std::string& path, const std::string& needle) {
 TEST(UntrustedImage, HdrRunLengthCountZeroEndsInAnError) {
     const std::string f = image("repro_hdr_rle_count0.hdr");
     const ChildResult r = run_bounded([&] { return expect_error_child(f, "count of 0"); });
-    ASSERT_TRUE(r.finished) << "loading " << f << " did not end in 30 s";
+    ASSERT_TRUE(r.finished) << "loading " << f << " did not end within the deadline";
     EXPECT_EQ(r.exit_code, 0);
 }
 
@@ -131,7 +135,7 @@ TEST(UntrustedImage, HdrEndingInsideARunEndsInAnError) {
     for (const char* name : {"repro_hdr_rle_ends_in_run.hdr", "repro_truncated_rle.hdr"}) {
         const std::string f = image(name);
         const ChildResult r = run_bounded([&] { return expect_error_child(f, "truncated"); });
-        ASSERT_TRUE(r.finished) << "loading " << f << " did not end in 30 s";
+        ASSERT_TRUE(r.finished) << "loading " << f << " did not end within the deadline";
         EXPECT_EQ(r.exit_code, 0) << f;
     }
 }
@@ -149,7 +153,7 @@ TEST(UntrustedImage, HangingHdrAsMapKdTextureGivesAWarning) {
             if (contains(w, (dir.path / "hang.hdr").string()) && contains(w, "count of 0")) return 0;
         return 2;
     });
-    ASSERT_TRUE(r.finished) << "loading the scene did not end in 30 s";
+    ASSERT_TRUE(r.finished) << "loading the scene did not end within the deadline";
     EXPECT_EQ(r.exit_code, 0);
 }
 
@@ -183,7 +187,7 @@ TEST(UntrustedImage, FifoSceneFileAndMtllibAreRefused) {
         }
         return bad;
     });
-    ASSERT_TRUE(r.finished) << "a FIFO or /dev/zero was read: no end in 30 s";
+    ASSERT_TRUE(r.finished) << "a FIFO or /dev/zero was read: no end within the deadline";
     EXPECT_EQ(r.exit_code, 0);
     const ChildResult idle = run_bounded([] { return 0; });
     EXPECT_LT(r.max_rss_kb - idle.max_rss_kb, 64 * 1024);
@@ -397,7 +401,7 @@ TEST(UntrustedOutput, SigkillDuringAWriteLeavesOnlyATemporaryTheNextWriteRemoves
     }
     const std::string prefix = ".pv-" + std::to_string(child) + "-";
     fs::path temp;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kDeadlineSeconds);
     while (temp.empty() && std::chrono::steady_clock::now() < deadline) {
         std::error_code ec;
         for (fs::directory_iterator it(dir.path, ec), end; !ec && it != end; it.increment(ec))
@@ -467,7 +471,7 @@ struct RunResult {
 };
 
 // Runs the program with a time limit (timeout(1) kills it: exit 137).
-RunResult run_pathview(const std::string& args, int seconds = 60, const std::string& prefix = "") {
+RunResult run_pathview(const std::string& args, int seconds = kDeadlineSeconds, const std::string& prefix = "") {
     TempDir dir;
     const std::string out = (dir.path / "stdout").string(), err = (dir.path / "stderr").string();
     const std::string cmd = prefix + "timeout -s KILL " + std::to_string(seconds) + " '" + PATHVIEW_BINARY + "' " +
@@ -488,9 +492,9 @@ TEST(UntrustedCli, NonFiniteFlagsAreRejected) {
     for (const char* flag : {"--time nan", "--time inf", "--exposure 1000", "--exposure nan", "--exposure inf",
                              "--sun-radius nan", "--env-strength nan", "--aperture nan", "--focus-distance nan",
                              "--sun-irradiance nan", "--fov nan", "--env-rotation inf", "--eye 0,nan,1"}) {
-        const RunResult r = run_pathview("render --width 8 --height 8 -q " + std::string(flag) + " -o " + out, 30);
+        const RunResult r = run_pathview("render --width 8 --height 8 -q " + std::string(flag) + " -o " + out);
         EXPECT_NE(r.exit_code, 0) << flag;
-        EXPECT_NE(r.exit_code, 137) << flag << ": still running after 30 s";
+        EXPECT_NE(r.exit_code, 137) << flag << ": still running at the deadline";
         // CLI11's usage errors add "Run with --help": the first line names the flag.
         EXPECT_TRUE(contains(r.err.substr(0, r.err.find('\n')), "not a finite number")) << flag << ": " << r.err;
         EXPECT_FALSE(fs::exists(out)) << flag;
@@ -500,8 +504,8 @@ TEST(UntrustedCli, NonFiniteFlagsAreRejected) {
 TEST(UntrustedCli, HangingEnvironmentMapEndsInOneLine) {
     const std::string f = image("repro_hdr_rle_count0.hdr");
     const RunResult r =
-        run_pathview("render --width 8 --height 8 --spp 1 -q --environment '" + f + "' -o /tmp/unused.exr", 30);
-    EXPECT_NE(r.exit_code, 137) << "still running after 30 s";
+        run_pathview("render --width 8 --height 8 --spp 1 -q --environment '" + f + "' -o /tmp/unused.exr");
+    EXPECT_NE(r.exit_code, 137) << "still running at the deadline";
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_TRUE(contains(r.err, f)) << r.err;
@@ -510,7 +514,7 @@ TEST(UntrustedCli, HangingEnvironmentMapEndsInOneLine) {
 TEST(UntrustedCli, MissingOutputFolderIsFoundBeforeRendering) {
     // A render of hours: only a check before it can end in seconds.
     const std::string out = "/nonexistent_pathview_dir/out.exr";
-    const RunResult r = run_pathview("render --spp 1000000 -q -o " + out, 60);
+    const RunResult r = run_pathview("render --spp 1000000 -q -o " + out);
     EXPECT_NE(r.exit_code, 137) << "rendered before checking the output";
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(lines(r.err), 1u) << r.err;
@@ -523,7 +527,7 @@ TEST(UntrustedCli, ThreadsReportsWhatRan) {
     ASSERT_EQ(sched_getaffinity(0, sizeof cpus, &cpus), 0);
     const int usable = CPU_COUNT(&cpus);
     const RunResult r =
-        run_pathview("render --width 8 --height 8 --spp 1 -q --threads 1024 -o " + (dir.path / "o.exr").string(), 60);
+        run_pathview("render --width 8 --height 8 --spp 1 -q --threads 1024 -o " + (dir.path / "o.exr").string());
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_TRUE(contains(r.out, ", " + std::to_string(usable) + " threads,")) << r.out;
     EXPECT_TRUE(contains(r.err, "--threads 1024")) << r.err;
@@ -533,8 +537,8 @@ TEST(UntrustedCli, ThreadsReportsWhatRan) {
     PATHVIEW_SANITIZED)  // (clang defines no __SANITIZE_ADDRESS__; CMake defines this for every sanitizer build)
 TEST(UntrustedCli, FilmLargerThanMemoryIsRefusedUpFrontWithTheFigure) {
     // 4 GB of address space: 16384^2 pixels at 92 bytes need 24.7 GB. (Sanitizers reserve terabytes: not there.)
-    const RunResult r =
-        run_pathview("render --width 16384 --height 16384 --spp 1 -q -o /tmp/unused.exr", 60, "ulimit -v 4000000; ");
+    const RunResult r = run_pathview("render --width 16384 --height 16384 --spp 1 -q -o /tmp/unused.exr",
+                                     kDeadlineSeconds, "ulimit -v 4000000; ");
     EXPECT_NE(r.exit_code, 0);
     EXPECT_EQ(lines(r.err), 1u) << r.err;
     EXPECT_TRUE(contains(r.err, "24.7 GB")) << r.err;

@@ -262,9 +262,11 @@ TEST(ViewerRefinement, ShownFramesCompletePendingRequestsInOrder) {
 }
 
 namespace {
-// Waits (bounded) until the loader's job has ended.
+// Waits until the loader's job has ended; the deadline (300 s, for a loaded sanitizer build) catches a hang only.
 bool wait_ready(const SceneLoader& loader) {
-    for (int i = 0; i < 3000 && !loader.ready(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(300);
+    while (!loader.ready() && std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
     return loader.ready();
 }
 }  // namespace

@@ -175,10 +175,12 @@ TEST(ViewerBookmarks, SaveErrorIsShownAndTheListKept) {
 }
 
 namespace {
-// Polls until no write is in flight (bounded); returns what the last poll() returned.
+// Polls until no write is in flight; returns what the last poll() returned. The deadline (300 s, for a loaded
+// sanitizer build) catches a hang only.
 bool poll_until_done(Snapshots& snapshots, ViewState& state) {
     bool done = false;
-    for (int i = 0; i < 3000 && snapshots.in_flight(); ++i) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(300);
+    while (snapshots.in_flight() && std::chrono::steady_clock::now() < deadline) {
         done = snapshots.poll(state);
         if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
