@@ -22,6 +22,7 @@ struct MergeOptions {
     std::vector<std::string> parts;
     float exposure = 0.f;
     std::string require;  // --require START:COUNT[,...]: the ranges the parts must cover, exactly
+    double max_image_megapixels = double(ImageLimits{}.max_pixels) * 1e-6;  // the budget of every image reader
 };
 
 bool has_ext(const std::string& path, const char* lower, const char* upper) {
@@ -39,9 +40,8 @@ void run(const MergeOptions& o) {
     for (const std::string& out : outs) check_writable(out);  // every output before reading or writing anything
     const std::string required =
         o.require.empty() ? "" : format_ranges(parse_ranges(o.require, "--require " + quote_prefix(o.require)));
-    std::vector<PartialRender> parts;
-    for (const std::string& p : o.parts) parts.push_back(read_partial(p));
-    const PartialRender merged = merge_partials(parts, o.parts);
+    set_image_limits(ImageLimits{uint64_t(o.max_image_megapixels * 1e6)});
+    const PartialRender merged = merge_partial_files(o.parts);
     if (!o.require.empty() && format_ranges(merged.ranges) != required)
         throw Error("--require " + quote_prefix(o.require) + ": the parts hold samples " +
                     format_ranges(merged.ranges) + " (a part is missing or extra)");
@@ -58,9 +58,10 @@ void run(const MergeOptions& o) {
         else
             write_png(out, image);
     }
-    std::printf("pathview: merged %zu parts, samples %s (%llu spp), %dx%d, estimated relMSE %.3g -> %s\n", parts.size(),
-                format_ranges(merged.ranges).c_str(), static_cast<unsigned long long>(merged.sample_count()),
-                merged.id.width, merged.id.height, merged.film.estimated_rel_mse(), o.out.c_str());
+    std::printf("pathview: merged %zu parts, samples %s (%llu spp), %dx%d, estimated relMSE %.3g -> %s\n",
+                o.parts.size(), format_ranges(merged.ranges).c_str(),
+                static_cast<unsigned long long>(merged.sample_count()), merged.id.width, merged.id.height,
+                merged.film.estimated_rel_mse(), o.out.c_str());
 }
 
 }  // namespace
@@ -81,6 +82,11 @@ void add_merge_command(CLI::App& app) {
     cmd->add_option("--require", o->require,
                     "Refuse unless the parts hold exactly these sample indices (START:COUNT, e.g. 0:4096): catches a "
                     "missing shard");
+    cmd->add_option("--max-image-megapixels", o->max_image_megapixels,
+                    "Largest partial render read, in megapixels (as render's budget for images); larger parts, or "
+                    "parts implausibly small for their size, are refused before any pixel is read")
+        ->check(finite_range(0.001, 1e6))
+        ->capture_default_str();
     cmd->add_option("--exposure", o->exposure, "Exposure in stops for PNG outputs")
         ->check(finite_range(-64, 64))
         ->capture_default_str();

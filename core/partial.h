@@ -95,14 +95,20 @@ PartialRender partial_from_renderer(const Renderer& renderer, std::vector<Sample
 
 // Writes a partial EXR (temporary file, then rename). Throws pv::Error naming `path`.
 void write_partial(const std::string& path, const PartialRender& part);
-// Reads and validates a partial EXR: format and version, every channel, the identity attributes, finite
-// non-negative sums, counts within the sample ranges. Throws pv::Error with one line naming `path`.
+// Reads and validates a partial EXR: format and version, every channel, the identity attributes, the size for the
+// file (at most 12 pixels a byte), counts within the sample ranges, and sums that float samples can give (finite,
+// non-negative, at most n times the largest float: every statistic of the film stays finite). Throws pv::Error with
+// one line naming `path`.
 PartialRender read_partial(const std::string& path);
 
 // Merges parts of one render (names[i] is parts[i]'s file, for messages): same version, scene hash, settings,
-// camera and size, disjoint sample ranges; the sums are added pixel by pixel (Film::merge) and the numeric info
-// (seconds, rays, dropped samples) is summed. Throws pv::Error naming the file that does not fit and why.
+// camera and size, disjoint sample ranges; the sums are added pixel by pixel (as Film::merge) in order of the
+// parts' first sample index, and the numeric info (seconds, rays, dropped samples) is summed. Throws pv::Error
+// naming the file that does not fit and why, or whose sums would overflow (never a non-finite film).
 PartialRender merge_partials(const std::vector<PartialRender>& parts, const std::vector<std::string>& names);
+// The same merge of partial EXR files, streamed: every header is read and checked first (the image budget, the
+// size for the file), then each part's pixels are added in blocks of rows: memory is the output film plus a block.
+PartialRender merge_partial_files(const std::vector<std::string>& paths);
 // Adds the numeric info that a merge sums (seconds, rays, dropped samples) of `from` into `into`.
 void add_summed_info(Metadata& into, const Metadata& from);
 
