@@ -289,5 +289,99 @@ TEST(UntrustedPartialSlow, MergeMemoryIsTheOutputPlusABlock) {
     EXPECT_LT(double(rss - idle), film_kb + 32 * 1024) << rss << " kB peak, " << idle << " kB idle";
 }
 
+// ---------------------------------------------------------------- deploy/slurm (defect 9)
+
+std::string deploy_dir() { return fs::canonical(std::string(PATHVIEW_FUZZ_DIR) + "/../../deploy/slurm").string(); }
+
+// The NUL-separated arguments recorded by the fake commands below, one call after another.
+std::vector<std::string> recorded(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<std::string> args;
+    for (std::string a; std::getline(in, a, '\0');) args.push_back(a);
+    return args;
+}
+
+// A folder with a fake `sbatch` on PATH: it records its arguments (each NUL-terminated, then "<end>") in
+// sbatch.log and prints a job id.
+struct FakeSlurm {
+    Dir d;
+    FakeSlurm() {
+        fs::create_directories(d.path / "bin");
+        std::ofstream(d.file("bin/sbatch")) << "#!/bin/bash\nprintf '%s\\0' \"$@\" '<end>' >> \""
+                                            << d.file("sbatch.log") << "\"\necho '4242;cluster'\n";
+        fs::permissions(d.path / "bin/sbatch", fs::perms::owner_all);
+    }
+    test::RunResult submit(const std::string& args) const {
+        return run_in(d.path, "PATH=\"" + d.file("bin") + ":$PATH\" exec \"" + deploy_dir() + "/submit.sh\" \"$@\"",
+                      args);
+    }
+    // Runs `line` by a script in `dir` (cd there first) with the shell arguments `args`.
+    static test::RunResult run_in(const fs::path& dir, const std::string& line, const std::string& args) {
+        const std::string script = (dir / "run.sh").string();
+        std::ofstream(script) << "#!/bin/bash\ncd \"" << dir.string() << "\" || exit 99\n" << line << "\n";
+        fs::permissions(script, fs::perms::owner_all);
+        return test::run_command(script, args);
+    }
+};
+
+// The count is validated as a positive integer before any arithmetic; nothing is submitted otherwise.
+TEST(UntrustedSlurm, SubmitCountMustBeAPositiveInteger) {
+    const FakeSlurm s;
+    for (const char* bad : {"'x[$(touch PWNED)]'", "0", "-1", "+3", "03", "''", "1e3", "' 4'", "'4 '", "9999999999"}) {
+        const test::RunResult r = s.submit(bad);
+        EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.err;
+        EXPECT_TRUE(has(r.err, "is not a positive integer")) << bad << ": " << r.err;
+    }
+    EXPECT_FALSE(fs::exists(s.d.file("PWNED"))) << "the count was evaluated as shell arithmetic";
+    EXPECT_FALSE(fs::exists(s.d.file("sbatch.log"))) << "a bad count was submitted";
+}
+
+// Render flags after -- reach the array job's script whole (spaces, globs); sbatch options go to both jobs.
+TEST(UntrustedSlurm, SubmitKeepsRenderFlagsWhole) {
+    const FakeSlurm s;
+    std::ofstream(s.d.file("decoy.exr")) << "x";  // a `*` expanded in the submitting folder would name it
+    const test::RunResult r = s.submit("3 --partition=p -- --environment '/a b/c  d.exr' '*' --seed 5");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.out, "4242 4242\n");
+    const std::string script = deploy_dir() + "/render-array.sbatch";
+    const std::vector<std::string> expected = {"--parsable",
+                                               "--array=0-2",
+                                               "--partition=p",
+                                               script,
+                                               "--environment",
+                                               "/a b/c  d.exr",
+                                               "*",
+                                               "--seed",
+                                               "5",
+                                               "<end>",
+                                               "--parsable",
+                                               "--dependency=afterok:4242",
+                                               "--kill-on-invalid-dep=yes",
+                                               "--partition=p",
+                                               deploy_dir() + "/merge.sbatch",
+                                               "<end>"};
+    const std::vector<std::string> got = recorded(s.d.file("sbatch.log"));
+    ASSERT_EQ(got.size(), expected.size());
+    EXPECT_EQ(got, expected);
+
+    // The array task passes them on whole; PV_FLAGS (the older form) is split at whitespace but never globbed.
+    std::ofstream(s.d.file("bin/fake-pathview"))
+        << "#!/bin/bash\nprintf '%s\\0' \"$@\" > \"" << s.d.file("args.log") << "\"\n";
+    fs::permissions(s.d.path / "bin/fake-pathview", fs::perms::owner_all);
+    const test::RunResult task = FakeSlurm::run_in(
+        s.d.path,
+        "PATHVIEW=\"" + s.d.file("bin/fake-pathview") + "\" PV_SPP=8 PV_PARTS=\"" + s.d.file("parts") +
+            "\" PV_FLAGS='--width 8 *' SLURM_ARRAY_TASK_ID=1 SLURM_ARRAY_TASK_MIN=0 SLURM_ARRAY_TASK_COUNT=3 exec \"" +
+            script + "\" \"$@\"",
+        "--environment '/a b/c  d.exr' '*'");
+    ASSERT_EQ(task.exit_code, 0) << task.err;
+    const std::vector<std::string> args = recorded(s.d.file("args.log"));
+    const std::vector<std::string> want = {"render",        "--spp",     "8",  "--shard",
+                                           "1/3",           "--threads", "1",  "-q",
+                                           "--width",       "8",         "*",  "--environment",
+                                           "/a b/c  d.exr", "*",         "-o", s.d.file("parts") + "/part-0001.exr"};
+    EXPECT_EQ(args, want);
+}
+
 }  // namespace
 }  // namespace pv

@@ -12,7 +12,7 @@ compare=$(realpath "${2:?usage: run.sh PATHVIEW EXR_COMPARE}")
 deploy=$(cd "$(dirname "$0")/../../deploy/slurm" && pwd)
 shards=${PV_TEST_SHARDS:-4}
 spp=${PV_TEST_SPP:-64}
-flags=${PV_TEST_FLAGS:---width 96 --height 96}
+read -r -a flags <<< "${PV_TEST_FLAGS:---width 96 --height 96}"  # split at whitespace, no globbing
 timeout=${PV_TEST_TIMEOUT:-300}
 
 say() { echo "test-slurm: $*"; }
@@ -127,9 +127,10 @@ say "one-node cluster up ($host, $cpus CPUs, Slurm $(sinfo -V | awk '{print $2}'
 # The array job and its dependent merge, as a user would submit them.
 cd "$T/work"
 export PATHVIEW=$pathview PV_SPP=$spp PV_PARTS=$T/work/parts PV_OUT=$T/work/merged.exr PV_PNG=$T/work/merged.png
-export PV_FLAGS=$flags
+unset PV_FLAGS
 t0=$(now_ms)
-read -r array merge <<< "$("$deploy/submit.sh" "$shards")"
+# The render flags after --, each argument whole (submit.sh passes them to every task).
+read -r array merge <<< "$("$deploy/submit.sh" "$shards" -- "${flags[@]}")"
 say "submitted array job $array ($shards tasks) and merge job $merge (afterok:$array)"
 state=
 deadline=$(($(date +%s) + timeout))
@@ -149,8 +150,7 @@ scontrol show job -o | grep -o 'JobId=[0-9]* \(ArrayJobId=[0-9]* ArrayTaskId=[0-
 
 # The same render in one process on all cores, every pixel at every index as the shards (no adaptive sampling).
 t0=$(now_ms)
-# shellcheck disable=SC2086  # flags is a list
-"$pathview" render --spp "$spp" --adaptive off $flags -q -o "$T/work/single.exr" > /dev/null
+"$pathview" render --spp "$spp" --adaptive off "${flags[@]}" -q -o "$T/work/single.exr" > /dev/null
 t1=$(now_ms)
 single_seconds=$(seconds $((t1 - t0)))
 
