@@ -80,6 +80,9 @@ struct JsonReader {
 
 constexpr float kBig = 1e30f;  // the CLI's upper bound of unbounded quantities
 constexpr float kMaxPortalEdge = 1e9f;
+// Every light sample of the sky tests each portal (TraceableScene::portal_pdf sums over the portals a ray crosses),
+// so the cost per sample grows with their count: a window needs one, a building's facade a few dozen.
+constexpr size_t kMaxPortals = 64;
 
 // A camera object; keys it lacks keep the values of `base`.
 CameraDesc read_camera(const JsonReader& r, const json& j, const Ptr& at, CameraDesc base, bool is_bookmark) {
@@ -126,6 +129,10 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
 // "portals": an array of parallelograms {corner, edge1, edge2}, finite and of non-zero area.
 std::vector<Portal> read_portals(const JsonReader& r, const json& j, const Ptr& at) {
     if (!j.is_array()) r.fail(at, "expected an array of {corner, edge1, edge2} objects");
+    if (j.size() > kMaxPortals)
+        r.fail(at, std::to_string(j.size()) + " portals; at most " + std::to_string(kMaxPortals) +
+                       " are supported (every light sample of the sky tests each one): merge adjacent openings "
+                       "into one parallelogram");
     std::vector<Portal> portals;
     for (size_t i = 0; i < j.size(); ++i) {
         const Ptr pi = at / i;

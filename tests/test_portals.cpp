@@ -128,6 +128,15 @@ TEST(Portals, LargestAcceptedPortalKeepsAFinitePdf) {
     EXPECT_NEAR(pdf, 9e-18f, 9e-18f * 1e-4f);
 }
 
+TEST(Portals, SixtyFourPortalsAreRead) {
+    std::string list = "[";
+    for (int i = 0; i < 64; ++i)
+        list += std::string(i ? "," : "") + R"({"corner": [0,0,0], "edge1": [1,0,0], "edge2": [0,1,0]})";
+    const Scene s =
+        load_scene_json_text(R"({"obj": "cornell-box.obj", "portals": )" + list + "]}", cornell_dir() + "/p.json");
+    EXPECT_EQ(s.portals.size(), 64u);
+}
+
 TEST(Portals, SceneFileReadsPortals) {
     const Scene s = load_scene_json_text(
         R"({"obj": "cornell-box.obj", "portals": [{"corner": [1, 2, 3], "edge1": [0, 1, 0], "edge2": [0, 0, 2]}]})",
@@ -152,12 +161,19 @@ TEST(Portals, BadPortalJsonNamesFileAndKey) {
         {R"([3])", "p.json: /portals/0: expected an object"},
         // Longer edges would overflow |edge1 x edge2|^2 in the portal's pdf (it was 0 for every direction).
         {R"([{"corner": [0,0,0], "edge1": [1e12,0,0], "edge2": [0,1e12,0]}])", "p.json: /portals/0/edge1/0: expected"},
+        // Issue 26, defect 10: each light sample tests every portal; more than 64 are refused.
+        {nullptr, "p.json: /portals: 65 portals; at most 64 are supported"},
     };
+    std::string many = "[";
+    for (int i = 0; i < 65; ++i)
+        many += std::string(i ? "," : "") + R"({"corner": [0,0,0], "edge1": [1,0,0], "edge2": [0,1,0]})";
+    many += "]";
     for (const auto& c : cases) {
-        const std::string text = std::string(R"({"obj": "cornell-box.obj", "portals": )") + c.portals + "}";
+        const std::string text =
+            std::string(R"({"obj": "cornell-box.obj", "portals": )") + (c.portals ? c.portals : many.c_str()) + "}";
         try {
             load_scene_json_text(text, cornell_dir() + "/p.json");
-            ADD_FAILURE() << "no error for " << c.portals;
+            ADD_FAILURE() << "no error for " << (c.portals ? c.portals : "65 portals");
         } catch (const Error& e) {
             const std::string msg = e.what();
             EXPECT_NE(msg.find(c.expect), std::string::npos) << msg;
