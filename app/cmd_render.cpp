@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
@@ -94,6 +95,19 @@ SampleRange parse_samples(const std::string& text) {
         throw Error("--samples " + quote_prefix(text) + ": expected one START:COUNT with COUNT <= 2^30");
     return r[0];
 }
+
+// The largest root-mean-square sample value of any pixel and channel (sqrt(sum_sq / n)): the scale of the squares
+// that the Variance layer and the denoisers compute in float.
+double largest_rms(const Film& film) {
+    double largest = 0.0;
+    for (const FilmPixel& px : film.pixels())
+        if (px.n)
+            for (int c = 0; c < 3; ++c) largest = std::max(largest, px.sum_sq[c] / px.n);
+    return std::sqrt(largest);
+}
+// Beyond it NFOR's window sums of squared colours overflow float (an all-black image at 1e18) and the Variance
+// layer holds Inf: 1e16 keeps squares below 1e32, a factor 1e6 from FLT_MAX for the sums.
+constexpr double kMaxDenoiseRms = 1e16;
 
 // The progress bar's text: "64 spp  1.2 s".
 std::string spp_and_seconds(uint32_t spp, double seconds) {
@@ -232,6 +246,16 @@ void run(RenderOptions& o) {
     double aov_seconds = 0.0;
     NforStats nfor;
     if (o.aovs || o.denoise) {
+        const double rms = largest_rms(renderer.film());
+        if (rms > kMaxDenoiseRms) {
+            char msg[400];
+            std::snprintf(msg, sizeof msg,
+                          "%s: the brightest pixel's RMS radiance is %.3g, beyond the %.0e that the Variance layer and "
+                          "the denoisers compute in float; scale the emission, --env-strength or --sun-irradiance down "
+                          "(without %s the render is written as is)",
+                          o.denoise ? "--denoise" : "--aovs", rms, kMaxDenoiseRms, o.denoise ? "--denoise" : "--aovs");
+            throw Error(msg);
+        }
         // AOVs: a first-hit feature pass after the render (the render loop itself is unchanged).
         const auto aov_start = std::chrono::steady_clock::now();
         const FeatureImage features = render_features(renderer.traceable(), renderer.camera(), image.width,

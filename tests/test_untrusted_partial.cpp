@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cfloat>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -287,6 +288,31 @@ TEST(UntrustedPartialSlow, MergeMemoryIsTheOutputPlusABlock) {
     // The output film, plus 32 MB for a block, OpenEXR and the program; reading the part whole took 270 MB.
     const double film_kb = double(sizeof(FilmPixel)) * kSide * kSide / 1024.0;
     EXPECT_LT(double(rss - idle), film_kb + 32 * 1024) << rss << " kB peak, " << idle << " kB idle";
+}
+
+// Defect 6: radiance whose squares overflow the float Variance layer and the denoisers (NFOR gave an all-black image,
+// Variance Inf) is refused with --denoise or --aovs, naming the figure; nothing is written. Within the bound the
+// denoised image is finite and not black.
+TEST(UntrustedPartial, DenoisingRadianceBeyondFloatSquaresIsRefused) {
+    const Dir d;
+    for (const char* flags : {"--denoise", "--aovs", "--denoise --denoiser atrous"}) {
+        const test::RunResult r =
+            pathview("render --environment 1e30 --spp 4 " + std::string(flags) + kSize + " -o " + d / "x.exr");
+        expect_refused(r, {"RMS radiance is", "beyond the 1e+16"});
+        EXPECT_FALSE(fs::exists(d.file("x.exr")));
+    }
+    const test::RunResult ok =
+        pathview("render --environment 1e15 --spp 4 --denoise --aovs" + kSize + " -o " + d / "ok.exr");
+    ASSERT_EQ(ok.exit_code, 0) << ok.err;
+    const Image im = read_exr(d.file("ok.exr"));
+    size_t zero = 0;
+    for (float v : im.rgb) {
+        EXPECT_TRUE(std::isfinite(v));
+        zero += v == 0.f;
+    }
+    EXPECT_EQ(zero, 0u);  // the box's open front lets the constant sky light every pixel
+    // Without the features, the same render is written as is.
+    EXPECT_EQ(pathview("render --environment 1e30 --spp 1" + kSize + " -o " + d / "plain.exr").exit_code, 0);
 }
 
 // ---------------------------------------------------------------- deploy/slurm (defect 9)
