@@ -315,6 +315,32 @@ TEST(UntrustedPartial, DenoisingRadianceBeyondFloatSquaresIsRefused) {
     EXPECT_EQ(pathview("render --environment 1e30 --spp 1" + kSize + " -o " + d / "plain.exr").exit_code, 0);
 }
 
+// The fuzzer's seeds (tests/fuzz/corpus-partial) are valid parts of this version that merge and round-trip; its
+// reproducers end in an error naming the file. (A version change makes the seeds foreign: regenerate them with
+// tests/fuzz/make_partial_corpus.sh.)
+TEST(UntrustedPartial, FuzzCorpusSeedsMergeAndReproducersAreRefused) {
+    size_t seeds = 0, repros = 0;
+    for (const auto& entry : fs::directory_iterator(std::string(PATHVIEW_FUZZ_DIR) + "/corpus-partial")) {
+        const std::string path = entry.path().string(), name = entry.path().filename().string();
+        if (name.rfind("seed_", 0) == 0) {
+            ++seeds;
+            const PartialRender p = merge_partial_files({path});
+            EXPECT_TRUE(std::isfinite(p.film.estimated_rel_mse())) << name;
+            EXPECT_EQ(format_ranges(p.ranges), format_ranges(read_partial(path).ranges)) << name;
+        } else if (name == "repro_dblmax_sums.exr") {
+            ++repros;
+            try {
+                merge_partial_files({path});
+                ADD_FAILURE() << name << " was merged";
+            } catch (const Error& e) {
+                EXPECT_TRUE(has(e.what(), path + ": pixel (0, 0) has a sum")) << e.what();
+            }
+        }
+    }
+    EXPECT_GE(seeds, 3u);
+    EXPECT_EQ(repros, 1u);
+}
+
 // ---------------------------------------------------------------- deploy/slurm (defect 9)
 
 std::string deploy_dir() { return fs::canonical(std::string(PATHVIEW_FUZZ_DIR) + "/../../deploy/slurm").string(); }
