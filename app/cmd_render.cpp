@@ -155,7 +155,8 @@ void run(RenderOptions& o) {
         samples = SampleRange{resumed->ranges.back().end(), 0};
         if (samples->start + uint64_t(o.spp.value_or(1)) > kSampleIndexLimit)
             throw Error("--resume " + o.resume + ": the part ends at sample " + std::to_string(samples->start) +
-                        "; no room for " + std::to_string(o.spp.value_or(1)) + " more sample indices below 2^32");
+                        "; no room for " + std::to_string(o.spp.value_or(1)) +
+                        " more samples (sample indices end at 2^32)");
     }
     // A partial render samples every pixel at each of its indices, so that its parts merge into what one `render
     // --adaptive off` gives; --adaptive on is honoured when asked for (each pixel then takes indices from the start of
