@@ -41,7 +41,8 @@ void run(const MergeOptions& o) {
     const std::string required =
         o.require.empty() ? "" : format_ranges(parse_ranges(o.require, "--require " + quote_prefix(o.require)));
     set_image_limits(ImageLimits{uint64_t(o.max_image_megapixels * 1e6)});
-    const PartialRender merged = merge_partial_files(o.parts);
+    const PartialRender merged =
+        merge_partial_files(o.parts, [&](int w, int h) { check_merge_memory(o.parts.front(), w, h); });
     if (!o.require.empty() && format_ranges(merged.ranges) != required)
         throw Error("--require " + quote_prefix(o.require) + ": the parts hold samples " +
                     format_ranges(merged.ranges) + " (a part is missing or extra)");

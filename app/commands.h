@@ -38,6 +38,8 @@ struct CommonOptions {
 CLI::Validator finite_range(double lo, double hi);
 // Refuses, before anything is allocated, a film larger than the memory available (pv::Error with the figure).
 void check_film_memory(int width, int height);
+// The same for `pathview merge`: the output film of width x height parts (pv::Error naming `part`).
+void check_merge_memory(const std::string& part, int width, int height);
 
 // Adds the shared options to a (sub)command.
 void add_common_options(CLI::App& cmd, CommonOptions& o);

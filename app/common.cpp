@@ -112,6 +112,21 @@ void check_film_memory(int width, int height) {
     }
 }
 
+void check_merge_memory(const std::string& part, int width, int height) {
+    // The output film, the float mean and, for a PNG, its bytes; a block of a part is small beside them.
+    const double per_pixel = double(sizeof(FilmPixel) + 3 * sizeof(float) + 3);
+    const double need = per_pixel * double(width) * double(height);
+    const uint64_t avail = available_memory();
+    if (avail && need > double(avail)) {
+        char msg[256];
+        std::snprintf(msg, sizeof msg,
+                      ": %dx%d parts need about %.1f GB to merge (%.0f bytes a pixel) but %.1f GB of memory are "
+                      "available",
+                      width, height, need * 1e-9, per_pixel, double(avail) * 1e-9);
+        throw Error(part + msg);
+    }
+}
+
 void add_common_options(CLI::App& cmd, CommonOptions& o) {
     cmd.add_option("scene", o.scene, "Scene: a .json scene file or an .obj (default: the built-in Cornell box)");
     cmd.add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();

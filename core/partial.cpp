@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <new>
 #include <set>
 #include <sstream>
 #include <type_traits>
@@ -530,6 +531,8 @@ void guarded(const std::string& path, Fn&& fn) {
         read_exr_guarded(path, fn, "a partial render EXR");
     } catch (const Error&) {
         throw;
+    } catch (const std::bad_alloc&) {
+        throw Error(path + ": out of memory while reading the partial render");
     } catch (const std::exception& e) {
         throw Error(path + ": cannot read EXR: " + one_line(e.what()));
     }
@@ -694,7 +697,8 @@ PartialRender merge_partials(const std::vector<PartialRender>& parts, const std:
     return out;
 }
 
-PartialRender merge_partial_files(const std::vector<std::string>& paths) {
+PartialRender merge_partial_files(const std::vector<std::string>& paths,
+                                  const std::function<void(int, int)>& before_pixels) {
     // Every header first (identity, ranges, size for the file, the image budget): nothing is allocated for pixels
     // until every part is known to fit.
     std::vector<PartialRender> headers;
@@ -703,8 +707,15 @@ PartialRender merge_partial_files(const std::vector<std::string>& paths) {
     PartialRender out;
     const std::vector<size_t> order = plan_merge(headers, paths, out);
     const int w = out.id.width, h = out.id.height;
+    if (before_pixels) before_pixels(w, h);
     // The output film, then each part added block by block in order of its first sample index (as Film::merge).
-    std::vector<FilmPixel> px(size_t(w) * size_t(h));
+    std::vector<FilmPixel> px;
+    try {
+        px.resize(size_t(w) * size_t(h));
+    } catch (const std::bad_alloc&) {
+        throw Error(paths[order[0]] + ": out of memory for the " + std::to_string(w) + "x" + std::to_string(h) +
+                    " merged film (" + std::to_string(sizeof(FilmPixel)) + " bytes a pixel)");
+    }
     std::vector<std::vector<uint32_t>> words;
     std::vector<FilmPixel> block;
     for (size_t k = 0; k < order.size(); ++k) {

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -108,7 +109,10 @@ PartialRender read_partial(const std::string& path);
 PartialRender merge_partials(const std::vector<PartialRender>& parts, const std::vector<std::string>& names);
 // The same merge of partial EXR files, streamed: every header is read and checked first (the image budget, the
 // size for the file), then each part's pixels are added in blocks of rows: memory is the output film plus a block.
-PartialRender merge_partial_files(const std::vector<std::string>& paths);
+// `before_pixels(width, height)`, when given, runs once every header has passed, before the output film is allocated
+// (the app's memory check).
+PartialRender merge_partial_files(const std::vector<std::string>& paths,
+                                  const std::function<void(int, int)>& before_pixels = nullptr);
 // Adds the numeric info that a merge sums (seconds, rays, dropped samples) of `from` into `into`.
 void add_summed_info(Metadata& into, const Metadata& from);
 

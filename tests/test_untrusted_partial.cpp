@@ -341,6 +341,22 @@ TEST(UntrustedPartial, FuzzCorpusSeedsMergeAndReproducersAreRefused) {
     EXPECT_EQ(repros, 1u);
 }
 
+// Defect 3: parts whose merged film does not fit the memory available are refused up front with the figure, as
+// `render` refuses a film (the old merge ended in std::bad_alloc). ulimit -v: not under ASan (Slow).
+TEST(UntrustedPartialSlow, MergeRefusesAFilmLargerThanMemory) {
+    const Dir d;
+    render_part(d, "0:2", "a.exr");
+    write_with_pixels(d, "a.exr", "z.exr", 2048, 2048, std::vector<FilmPixel>(2048 * 2048));
+    const std::string cmd = "ulimit -v 300000; '" + std::string(PATHVIEW_BINARY) + "' merge " + d / "m.exr" + " " +
+                            d / "z.exr" + " 2>" + d / "err.txt";
+    const int status = std::system(("/bin/sh -c \"" + cmd + "\"").c_str());
+    EXPECT_NE(status, 0);
+    std::ifstream in(d.file("err.txt"));
+    std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_TRUE(has(err, d.file("z.exr") + ": 2048x2048 parts need about 0.4 GB to merge")) << err;
+    EXPECT_FALSE(fs::exists(d.file("m.exr")));
+}
+
 // ---------------------------------------------------------------- deploy/slurm (defect 9)
 
 std::string deploy_dir() { return fs::canonical(std::string(PATHVIEW_FUZZ_DIR) + "/../../deploy/slurm").string(); }
