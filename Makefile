@@ -95,7 +95,7 @@ test-tsan: deps
 # FUZZ_SECONDS caps the time), so a run is deterministic for a given build: CI repeats exactly what was run before submitting, and a crash input (./crash-*) reproduces.
 FUZZ_SECONDS ?= 120
 FUZZERS := fuzz_obj:corpus:150000 fuzz_image:corpus-image:150000 fuzz_scene_json:corpus-json:400000 \
-  fuzz_partial:corpus-partial:20000
+  fuzz_partial:corpus-partial:6000
 test-fuzz: build-asan-fuzz
 	@set -e; for f in $(FUZZERS); do name=$${f%%:*}; rest=$${f#*:}; seeds=$${rest%%:*}; runs=$${rest#*:}; \
 	  rm -rf build-asan-fuzz/$$seeds.new && mkdir -p build-asan-fuzz/$$seeds.new; \
