@@ -27,6 +27,10 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
     const std::string dir = getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp";
     g_in = dir + "/pv-fuzz-partial-" + std::to_string(::getpid()) + ".exr";
     g_out = dir + "/pv-fuzz-partial-" + std::to_string(::getpid()) + "-out.exr";
+    std::atexit([] {
+        std::remove(g_in.c_str());
+        std::remove(g_out.c_str());
+    });
     return 0;
 }
 
