@@ -37,7 +37,11 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials, b
         const Material& m = materials[scene.material_ids[tri]];
         const float pmf = m_select.pmf(k);
         m_emitter_of[tri] = uint32_t(k);
-        m_emitters.push_back({p0, p1, p2, safe_normalize(glm::cross(p1 - p0, p2 - p0)), m.emission, pmf, pmf / areas[k],
+        const vec3 centre = (p0 + p1 + p2) / 3.f;
+        const float r2 = std::max({glm::dot(p0 - centre, p0 - centre), glm::dot(p1 - centre, p1 - centre),
+                                   glm::dot(p2 - centre, p2 - centre)});
+        m_emitters.push_back({p0, p1, p2, safe_normalize(glm::cross(p1 - p0, p2 - p0)), m.emission, centre,
+                              kSphericalNearRadii * kSphericalNearRadii * r2, pmf, pmf / areas[k],
                               m.two_sided_emission});
         if (m.alpha_texture != kNoIndex && m.alpha_texture < scene.textures.size()) {
             // The alpha test's lookup (core/accel.cpp): the texture at the interpolated uv (0 without uvs).
