@@ -1,12 +1,15 @@
-// core/lights.cpp: power-proportional selection of emissive triangles (exact alias table) and uniform area sampling.
+// core/lights.cpp: the emitters' table and power-proportional selection (exact alias table); the pdf of a found
+// emitter.
 #include "core/lights.h"
 
 #include <algorithm>
 
 namespace pv {
 
-LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials) {
+LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials, bool solid_angle)
+    : m_solid_angle(solid_angle) {
     std::vector<double> power;
+    std::vector<float> areas;
     for (uint32_t i = 0; i < scene.triangles.size(); ++i) {
         const Material& m = materials[scene.material_ids[i]];
         if (!m.has_emission()) continue;
@@ -18,7 +21,7 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials) {
         // as +inf), are never light-sampled: one infinite power would make every pmf 0 or NaN.
         if (!(area > 0.f) || !(w > 0.0) || !std::isfinite(w)) continue;
         m_tris.push_back(i);
-        m_area.push_back(area);
+        areas.push_back(area);
         power.push_back(w);
     }
     if (m_tris.empty()) return;
@@ -26,16 +29,19 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials) {
     for (double w : power) total += w;
     m_total_power = static_cast<float>(total * kPi);
     m_select = DiscreteDistribution(power);
-    m_pmf.assign(scene.triangles.size(), 0.f);
-    for (size_t k = 0; k < m_tris.size(); ++k) m_pmf[m_tris[k]] = m_select.pmf(k);
-    m_pdf_area.assign(scene.triangles.size(), 0.f);
+    m_emitter_of.assign(scene.triangles.size(), kNoIndex);
     for (size_t k = 0; k < m_tris.size(); ++k) {
         const uint32_t tri = m_tris[k];
         const uvec3 t = scene.triangles[tri];
         const vec3 p0 = scene.positions[t.x], p1 = scene.positions[t.y], p2 = scene.positions[t.z];
         const Material& m = materials[scene.material_ids[tri]];
-        m_pdf_area[tri] = m_pmf[tri] / m_area[k];
-        m_emitters.push_back({p0, p1, p2, safe_normalize(glm::cross(p1 - p0, p2 - p0)), m.emission, m_pdf_area[tri],
+        const float pmf = m_select.pmf(k);
+        m_emitter_of[tri] = uint32_t(k);
+        const vec3 centre = (p0 + p1 + p2) / 3.f;
+        const float r2 = std::max({glm::dot(p0 - centre, p0 - centre), glm::dot(p1 - centre, p1 - centre),
+                                   glm::dot(p2 - centre, p2 - centre)});
+        m_emitters.push_back({p0, p1, p2, safe_normalize(glm::cross(p1 - p0, p2 - p0)), m.emission, centre,
+                              kSphericalNearRadii * kSphericalNearRadii * r2, pmf, pmf / areas[k],
                               m.two_sided_emission});
         if (m.alpha_texture != kNoIndex && m.alpha_texture < scene.textures.size()) {
             // The alpha test's lookup (core/accel.cpp): the texture at the interpolated uv (0 without uvs).
@@ -47,8 +53,12 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials) {
 }
 
 float LightSet::pdf(uint32_t tri, vec3 ref, vec3 p, vec3 n) const {
-    const float pdf_area = tri < m_pdf_area.size() ? m_pdf_area[tri] : 0.f;
-    if (pdf_area == 0.f) return 0.f;
+    if (tri >= m_emitter_of.size() || m_emitter_of[tri] == kNoIndex) return 0.f;
+    const Emitter& e = m_emitters[m_emitter_of[tri]];
+    if (e.pmf == 0.f) return 0.f;
+    float omega = 0.f;
+    if (spherical(e, ref, omega)) return e.pmf / omega;
+    const float pdf_area = e.pdf_area;
     const vec3 d = p - ref;
     const float d2 = glm::dot(d, d);
     const float cos_l = std::fabs(glm::dot(n, d)) / std::sqrt(d2);
