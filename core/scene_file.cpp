@@ -8,6 +8,7 @@
 #include "core/environment.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/gltf_loader.h"
 #include "core/image_io.h"
 #include "core/material_params.h"
 #include "core/obj_loader.h"
@@ -179,13 +180,18 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     const std::vector<Portal> portals =
         j.contains("portals") ? read_portals(r, j["portals"], root / "portals") : std::vector<Portal>{};
 
-    Scene scene = load_obj((dir / obj).string(), opts);
+    // "obj" may name a glTF file (.gltf, .glb); its camera is the start view unless "camera" is given, and its
+    // cameras come before the file's "bookmarks".
+    const std::string model_path = (dir / obj).string();
+    Scene scene = is_gltf_path(obj) ? load_gltf(model_path) : load_obj(model_path, opts);
+    if (is_gltf_path(obj) && opts.two_sided_emission)
+        for (Material& m : scene.materials) m.two_sided_emission = true;
     scene.source = path;
     scene.portals = portals;
     scene.warnings.insert(scene.warnings.end(), warnings.begin(), warnings.end());
     const JsonReader rs{path, &scene.warnings};
     if (j.contains("background")) scene.environment.background = r.vec(j["background"], root / "background", 0.f, kBig);
-    scene.camera = scene.framing_camera();
+    if (!scene.has_camera) scene.camera = scene.framing_camera();
     if (j.contains("camera")) {
         scene.camera = read_camera(r, cam, root / "camera", scene.camera, false);
         scene.has_camera = true;
@@ -315,16 +321,17 @@ Scene load_scene(const std::string& path) {
     const std::string ext = std::filesystem::path(path).extension().string();
     if (ext == ".json" || ext == ".JSON")
         return load_scene_json_text(read_regular_file(path, kMaxJsonBytes, "a JSON scene file"), path);
-    if (ext == ".obj" || ext == ".OBJ") {
-        Scene scene = load_obj(path);
-        scene.camera = scene.framing_camera();
+    if (ext == ".obj" || ext == ".OBJ" || is_gltf_path(path)) {
+        Scene scene = is_gltf_path(path) ? load_gltf(path) : load_obj(path);
+        if (!scene.has_camera) scene.camera = scene.framing_camera();
         use_default_sky_if_unlit(scene, false);
         pack_texels(scene.textures);  // the surfaces' textures and the sky in one region, on huge pages
         return scene;
     }
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw Error(path + ": no such file; expected a .json scene or an .obj");
-    throw Error(path + ": unknown scene format '" + ext + "'; expected .json or .obj");
+    if (!std::filesystem::exists(path, ec))
+        throw Error(path + ": no such file; expected a .json scene, an .obj, a .gltf or a .glb");
+    throw Error(path + ": unknown scene format '" + ext + "'; expected .json, .obj, .gltf or .glb");
 }
 
 }  // namespace pv
