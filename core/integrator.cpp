@@ -196,10 +196,10 @@ bool PathWalker::step_with() {
                         // An untextured BSDF is evaluated first (no shadow ray toward a black value), a textured one
                         // once the shadow ray is traced: its traversal hides the load of the prefetched texels.
                         // Textures apply to reflection-only lobes, black below the surface whatever the colour: no
-                        // shadow ray there either.
+                        // shadow ray there either (unless a metallic-roughness material transmits).
                         vec3 f = same_side && !base_color ? eval(*bsdf, wo, wi) : vec3(0.f);
                         bool visible = false;
-                        if (same_side && (base_color ? reflects(wo, wi) : !is_black(f))) {
+                        if (same_side && (base_color ? reflects(wo, wi) || transmits(*bsdf) : !is_black(f))) {
                             const Ray shadow = shadow_ray(origin_toward(ls.wi), ls);
                             ++m_counters.shadow_rays;
                             visible = !ts.occluded(shadow);

@@ -107,17 +107,31 @@ json camera_json(const CameraDesc& c) {
 
 // Applies a material override: the "type" chooses the BSDF, other keys set its parameters.
 void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& at) {
-    const json& o = r.object(j, at, {"type", "base_color", "specular", "roughness", "ior", "emission"});
+    const json& o =
+        r.object(j, at,
+                 {"type", "base_color", "specular", "roughness", "ior", "emission", "metallic", "transmission",
+                  "specular_factor", "thin_walled", "attenuation_color", "attenuation_distance"});
     BsdfParams p = bsdf_params(m.bsdf);
     if (o.contains("type")) {
         const std::string type = r.string(o["type"], at / "type");
         if (!parse_bsdf_type(type, p.type))
-            r.fail(at / "type", "unknown type '" + type + "'; expected diffuse, glossy, mirror or glass");
+            r.fail(at / "type",
+                   "unknown type '" + type + "'; expected diffuse, glossy, mirror, glass or metallic-roughness");
     }
     if (o.contains("base_color")) p.base = r.vec(o["base_color"], at / "base_color", 0.f, 1.f);
     if (o.contains("specular")) p.specular = r.vec(o["specular"], at / "specular", 0.f, 1.f);
     if (o.contains("roughness")) p.roughness = r.number(o["roughness"], at / "roughness", 0.f, 1.f);
     if (o.contains("ior")) p.ior = r.number(o["ior"], at / "ior", 1e-3f, 1e3f);
+    // Metallic-roughness parameters (glTF's names, snake_case); the other types ignore them.
+    if (o.contains("metallic")) p.metallic = r.number(o["metallic"], at / "metallic", 0.f, 1.f);
+    if (o.contains("transmission")) p.transmission = r.number(o["transmission"], at / "transmission", 0.f, 1.f);
+    if (o.contains("specular_factor"))
+        p.specular_weight = r.number(o["specular_factor"], at / "specular_factor", 0.f, 1.f);
+    if (o.contains("thin_walled")) p.thin_walled = r.boolean(o["thin_walled"], at / "thin_walled");
+    if (o.contains("attenuation_color"))
+        p.attenuation_color = r.vec(o["attenuation_color"], at / "attenuation_color", 0.f, 1.f);
+    if (o.contains("attenuation_distance"))
+        p.attenuation_distance = r.number(o["attenuation_distance"], at / "attenuation_distance", 1e-6f, kBig);
     if (o.contains("emission")) m.emission = r.vec(o["emission"], at / "emission", 0.f, kBig);
     // A mirror's reflectance is its "specular" colour when given (the MTL's Ks), else its base colour.
     if (p.type == BsdfType::Mirror && o.contains("specular")) p.base = p.specular;
