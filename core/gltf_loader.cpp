@@ -194,21 +194,21 @@ struct GltfMaterial {
     float attenuation_distance = std::numeric_limits<float>::infinity();
 };
 
-// The BSDF of a glTF material. Until the metallic-roughness model is available this is the approximation the
-// existing lobes allow: a dielectric without a specular layer is Lambertian in its base colour.
+// The BSDF of a glTF material: core/bsdf_pbr.h's MetallicRoughness, through make_bsdf (which clamps, and keeps only
+// the lobes the parameters make non-zero).
 Bsdf gltf_bsdf(const GltfMaterial& g) {
     BsdfParams p;
-    p.type = BsdfType::Diffuse;
-    p.base = vec3(g.base_color) * (1.f - g.metallic);
-    if (g.metallic > 0.5f) {
-        p.type = g.roughness > 0.f ? BsdfType::Glossy : BsdfType::Mirror;
-        p.base = p.type == BsdfType::Mirror ? vec3(g.base_color) : vec3(0.f);
-        p.specular = vec3(g.base_color);
-        p.roughness = g.roughness * g.roughness;
-    } else if (g.transmission > 0.5f) {
-        p.type = BsdfType::Glass;
-        p.ior = g.ior;
-    }
+    p.type = BsdfType::MetallicRoughness;
+    p.base = vec3(g.base_color);
+    p.metallic = g.metallic;
+    p.roughness = g.roughness;
+    p.ior = g.ior;
+    p.specular_weight = g.specular;
+    p.specular = g.specular_color;
+    p.transmission = g.transmission;
+    p.thin_walled = !(g.thickness > 0.f);
+    p.attenuation_color = g.attenuation_color;
+    p.attenuation_distance = g.attenuation_distance;
     return make_bsdf(p);
 }
 
