@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "core/bsdf_pbr.h"
 #include "core/error.h"
 #include "core/gltf_loader.h"
 #include "core/obj_loader.h"
@@ -359,6 +360,97 @@ TEST(GltfLoader, UnsupportedExtensionsRequiredAreRefusedUsedOnesWarnedOnce) {
         EXPECT_NE(m.find("draco.gltf: /extensionsRequired/1: "), std::string::npos) << m;
         EXPECT_NE(m.find("'KHR_draco_mesh_compression'"), std::string::npos) << m;
     }
+}
+
+// A 2x2 32-bit TGA (BGRA, top row first): Texture::decode tells formats by their bytes, so a glTF image may be one.
+std::string tga_2x2(const uint8_t rgba[4][4]) {
+    std::string t(18, '\0');
+    t[2] = 2;                  // uncompressed true colour
+    t[12] = 2, t[14] = 2;      // width, height
+    t[16] = 32, t[17] = 0x28;  // 32 bits, 8 alpha bits, top-left origin
+    for (int i = 0; i < 4; ++i)
+        t += std::string{char(rgba[i][2]), char(rgba[i][1]), char(rgba[i][0]), char(rgba[i][3])};
+    return t;
+}
+
+TEST(GltfLoader, MaterialsFactorsTexturesAlphaModesEmissionAndExtensions) {
+    Gltf g;
+    const uint8_t px[4][4] = {{255, 255, 255, 255}, {255, 0, 0, 100}, {0, 255, 0, 200}, {0, 0, 255, 0}};
+    g.j["images"] = {{{"bufferView", g.view(tga_2x2(px))}, {"mimeType", "image/png"}}};
+    g.j["textures"] = {{{"source", 0}}};
+    const json transform = {{"KHR_texture_transform", {{"offset", {0.5, 0}}, {"scale", {2, 2}}}}};
+    g.j["materials"] = {
+        {{"name", "factor"},
+         {"pbrMetallicRoughness",
+          {{"baseColorFactor", {0.5, 1, 1, 1}}, {"baseColorTexture", {{"index", 0}, {"extensions", transform}}}}}},
+        {{"name", "mask"},
+         {"alphaMode", "MASK"},
+         {"alphaCutoff", 0.5},
+         {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}},
+        {{"name", "lamp"},
+         {"doubleSided", true},
+         {"emissiveFactor", {1, 0.5, 0.25}},
+         {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}},
+        {{"name", "pbr"},
+         {"pbrMetallicRoughness",
+          {{"baseColorFactor", {0.2, 0.4, 0.6, 1}}, {"metallicFactor", 0.3}, {"roughnessFactor", 0.6}}},
+         {"extensions",
+          {{"KHR_materials_ior", {{"ior", 1.33}}},
+           {"KHR_materials_specular", {{"specularFactor", 0.5}, {"specularColorFactor", {1, 0.5, 0.5}}}},
+           {"KHR_materials_transmission", {{"transmissionFactor", 0.8}}},
+           {"KHR_materials_volume",
+            {{"thicknessFactor", 1}, {"attenuationColor", {0.9, 0.8, 0.7}}, {"attenuationDistance", 3}}}}}},
+        {{"name", "blend"}, {"alphaMode", "BLEND"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.25}}}}}};
+    const int pos = g.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    const int uv = g.floats({0, 0, 1, 0, 0, 1}, "VEC2", 2);
+    json roots = json::array();
+    for (int m = 0; m < 5; ++m)
+        roots.push_back(g.node({{"mesh", g.mesh({{"POSITION", pos}, {"TEXCOORD_0", uv}}, -1, -1, m)}}));
+    g.scene(roots);
+    const Scene s = load(g.glb(), "materials.glb");
+    ASSERT_EQ(s.materials.size(), 5u);
+    for (const std::string& w : s.warnings) ADD_FAILURE() << w;
+    // baseColorFactor x texture (sRGB decoded), baked; OPAQUE ignores the image's alpha.
+    const Material& f = s.materials[0];
+    ASSERT_NE(f.base_color_texture, kNoIndex);
+    EXPECT_EQ(f.alpha_texture, kNoIndex);
+    const std::vector<vec4> ft = s.textures[f.base_color_texture].texels();
+    EXPECT_FLOAT_EQ(ft[0].x, 0.5f);
+    EXPECT_FLOAT_EQ(ft[2].y, 1.f);
+    // Its texture transform is applied to the triangle's uvs: (0.5, 0) + 2 uv, then v flipped (pathview's v up).
+    const uvec3 ti = s.uv_indices[0];
+    EXPECT_EQ(s.uvs[ti.x], vec2(0.5f, 1.f));
+    EXPECT_EQ(s.uvs[ti.y], vec2(2.5f, 1.f));
+    EXPECT_EQ(s.uvs[ti.z], vec2(0.5f, -1.f));
+    // MASK: alpha cut at alphaCutoff into 0 or 1, the base colour texture doubling as the cut-out.
+    const Material& m = s.materials[1];
+    ASSERT_NE(m.alpha_texture, kNoIndex);
+    EXPECT_EQ(m.alpha_texture, m.base_color_texture);
+    const std::vector<vec4> mt = s.textures[m.alpha_texture].texels();
+    EXPECT_EQ(mt[0].w, 1.f);
+    EXPECT_EQ(mt[1].w, 0.f);  // 100 / 255 < 0.5
+    EXPECT_EQ(mt[2].w, 1.f);  // 200 / 255 >= 0.5
+    EXPECT_EQ(mt[3].w, 0.f);
+    // emissiveFactor x KHR_materials_emissive_strength; doubleSided emits from both faces.
+    EXPECT_EQ(s.materials[2].emission, vec3(4.f, 2.f, 1.f));
+    EXPECT_TRUE(s.materials[2].two_sided_emission);
+    EXPECT_FALSE(s.materials[0].two_sided_emission);
+    // The metallic-roughness parameters and the KHR extensions.
+    const auto* mr = std::get_if<MetallicRoughness>(&s.materials[3].bsdf);
+    ASSERT_NE(mr, nullptr);
+    EXPECT_NEAR(mr->base_color.y, 0.4f, 1e-6f);
+    EXPECT_NEAR(mr->metallic, 0.3f, 1e-6f);
+    EXPECT_NEAR(mr->roughness, 0.6f, 1e-6f);
+    EXPECT_NEAR(mr->ior, 1.33f, 1e-6f);
+    EXPECT_NEAR(mr->specular, 0.5f, 1e-6f);
+    EXPECT_NEAR(mr->specular_color.y, 0.5f, 1e-6f);
+    EXPECT_NEAR(mr->transmission, 0.8f, 1e-6f);
+    EXPECT_FALSE(mr->thin_walled);
+    EXPECT_NEAR(mr->attenuation_color.z, 0.7f, 1e-6f);
+    EXPECT_NEAR(mr->attenuation_distance, 3.f, 1e-6f);
+    // BLEND without a texture: a constant opacity as a 1x1 cut-out texture.
+    ASSERT_NE(s.materials[4].alpha_texture, kNoIndex);
+    EXPECT_EQ(s.textures[s.materials[4].alpha_texture].texels()[0].w, 0.25f);
 }
 
 // ------------------------------------------------------------------------------------------------- bad files
