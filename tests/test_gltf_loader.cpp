@@ -606,6 +606,33 @@ TEST(GltfLoader, DamagedFilesEndInOneLineNamingTheFileAndJsonPathWithinLittleMem
     }
 }
 
+TEST(GltfLoader, SceneFileNamesAGltfFileWithItsCameraOverridesAndBookmarks) {
+    TempDir dir;
+    Gltf g;
+    const int tri = unit_triangle(g);
+    g.j["cameras"] = {
+        {{"name", "file view"}, {"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
+    g.scene({g.node({{"mesh", tri}}), g.node({{"camera", 0}, {"translation", {0, 0, 5}}})});
+    dir.file("model.glb", g.glb());
+    // Without "camera": the file's camera; with it, the JSON's; the file's cameras come before the JSON's bookmarks.
+    const Scene a = load_scene(dir.file("a.json", R"({"obj": "model.glb", "background": [0.1, 0.1, 0.1]})"));
+    expect_near(a.camera.eye, vec3(0, 0, 5));
+    EXPECT_EQ(a.environment.background, vec3(0.1f));
+    const Scene b = load_scene(dir.file(
+        "b.json", R"({"obj": "model.glb", "camera": {"eye": [1, 2, 3]}, "bookmarks": [{"name": "mine", "fov": 30}]})"));
+    expect_near(b.camera.eye, vec3(1, 2, 3));
+    ASSERT_EQ(b.bookmarks.size(), 2u);
+    EXPECT_EQ(b.bookmarks[0].name, "file view");
+    EXPECT_EQ(b.bookmarks[1].name, "mine");
+    // A bookmark saved for a .glb goes to "<file>.json", which loads the .glb again.
+    const std::string saved = save_bookmark((dir.path / "model.glb").string(), "saved", b.camera);
+    EXPECT_EQ(saved, (dir.path / "model.glb.json").string());
+    const Scene c = load_scene(saved);
+    EXPECT_EQ(c.triangle_count(), 1u);
+    EXPECT_NO_THROW(find_bookmark(c, "saved"));
+    EXPECT_NO_THROW(find_bookmark(c, "file view"));
+}
+
 // ------------------------------------------------------------------------------------------------- Cornell box
 
 // The OBJ Cornell box as glTF: one primitive per material (baseColorFactor = Kd, metallic 0, KHR_materials_specular
