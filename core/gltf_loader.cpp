@@ -1060,9 +1060,6 @@ Scene load(const std::string& bytes, const std::string& file) {
         scene.warnings.push_back(file + ": COLOR_0 (vertex colours) is not used: pathview has no per-vertex colour");
     scene.stats.dropped_nonfinite = L.dropped_nonfinite;
     scene.stats.dropped_degenerate = L.dropped_degenerate;
-    if (!scene.punctual_lights.empty())
-        scene.warnings.push_back(file + ": " + str(scene.punctual_lights.size()) +
-                                 " KHR_lights_punctual light(s) loaded but not rendered yet");
     // Per-triangle arrays all-absent are dropped (the scene then pays nothing for them).
     auto all_absent = [](const std::vector<uvec3>& v) {
         return std::all_of(v.begin(), v.end(), [](const uvec3& t) { return t.x == kNoIndex; });

@@ -221,6 +221,22 @@ bool PathWalker::step_with() {
                     }
                 }
 
+                // Punctual lights (glTF KHR_lights_punctual): delta lights, reached by next-event estimation alone
+                // (no BSDF sample can hit them), every one at every non-delta vertex, without a random draw or MIS.
+                if (!scene.punctual_lights.empty() && settings.light_sampling && !is_delta(*bsdf)) {
+                    for (const PunctualLight& light : scene.punctual_lights) {
+                        LightSample ls;
+                        if (!sample_punctual(light, sf.p, ls)) continue;
+                        const vec3 wi = frame.to_local(ls.wi);
+                        if ((glm::dot(ls.wi, ng) > 0.f) != (wi.z > 0.f)) continue;
+                        const vec3 f = eval(shade(), wo, wi);
+                        if (is_black(f)) continue;
+                        ++m_counters.shadow_rays;
+                        if (ts.occluded(shadow_ray(origin_toward(ls.wi), ls))) continue;
+                        m_L += m_beta * f * std::fabs(wi.z) * ls.le;
+                    }
+                }
+
                 // BSDF sampling for the next direction.
                 auto bs = sample(shade(), wo, u_lobe, u_bsdf);
                 if (!bs) return finish();

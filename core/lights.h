@@ -44,6 +44,13 @@ inline Ray shadow_ray(vec3 origin, const LightSample& ls) {
     return shadow;
 }
 
+// The light a glTF punctual light (Scene::punctual_lights, KHR_lights_punctual) sends toward `ref`: out.wi (unit,
+// toward the light), out.dist (infinite for a directional light), out.p and out.n for shadow_ray, and out.le the
+// irradiance it gives a surface at `ref` facing it: intensity / d^2 times the range falloff and the spot's cone
+// (point and spot), intensity (directional). A delta light: out.pdf = 1, no MIS (no BSDF sample can hit it). False
+// when it sends nothing there.
+bool sample_punctual(const PunctualLight& light, vec3 ref, LightSample& out);
+
 class LightSet {
 public:
     LightSet() = default;

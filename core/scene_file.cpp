@@ -249,7 +249,8 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
             }
         if (!found) scene.warnings.push_back(path + ": material override '" + name + "' matches no material");
     }
-    use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment") || j.contains("sun"));
+    use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment") || j.contains("sun") ||
+                                        !scene.punctual_lights.empty());
     pack_texels(scene.textures);  // the surfaces' textures and the map in one region, on huge pages
     return scene;
 }
@@ -338,7 +339,7 @@ Scene load_scene(const std::string& path) {
     if (ext == ".obj" || ext == ".OBJ" || is_gltf_path(path)) {
         Scene scene = is_gltf_path(path) ? load_gltf(path) : load_obj(path);
         if (!scene.has_camera) scene.camera = scene.framing_camera();
-        use_default_sky_if_unlit(scene, false);
+        use_default_sky_if_unlit(scene, !scene.punctual_lights.empty());  // a glTF's punctual lights light it
         pack_texels(scene.textures);  // the surfaces' textures and the sky in one region, on huge pages
         return scene;
     }
