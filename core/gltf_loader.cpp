@@ -40,6 +40,11 @@ constexpr uint64_t kMaxGltfBytes = uint64_t(2) << 30;
 // and so instance a mesh exponentially often; these bound the work and the memory.
 constexpr size_t kMaxNodeVisits = size_t(1) << 20;
 constexpr size_t kMaxTriangles = size_t(1) << 27;
+// What instancing may make of a file's bytes: a file may place a mesh many times, but a small file that would expand
+// into gigabytes is refused. Vertices and triangles (each of them, counted with every instance) up to 2^22 or 16 per
+// byte of the file's buffers, whichever is larger (each costs about 60 bytes in the scene).
+constexpr size_t kMinInstancingBudget = size_t(1) << 22;
+constexpr uint64_t kInstancingPerByte = 16;
 constexpr float kMaxCoordinate = 1.844e18f;  // Embree ignores primitives beyond this (as obj_loader.cpp)
 
 std::string ptr(std::initializer_list<std::string> parts) {
@@ -227,6 +232,7 @@ struct Loader {
     std::map<int, uint32_t> image_texture;  // glTF image -> Scene::textures index (as decoded)
     std::set<std::string> warned;           // one warning per kind
 
+    size_t budget = kMinInstancingBudget;  // vertices and triangles at most (set from the buffers' size)
     size_t skipped_points_lines = 0, dropped_nonfinite = 0, dropped_degenerate = 0, visits = 0;
     bool non_white_colors = false;
 
@@ -630,8 +636,9 @@ void Loader::add_mesh(int mesh_index, const dmat4& world, const std::string& ref
         } else {
             for (size_t i = 1; i + 1 < idx.size(); ++i) tris.push_back(uvec3(idx[i], idx[i + 1], idx[0]));
         }
-        if (s.triangles.size() + tris.size() > kMaxTriangles)
-            fail(at, "the scene would exceed " + str(kMaxTriangles) + " triangles (meshes instanced by many nodes)");
+        if (s.triangles.size() + tris.size() > budget || s.positions.size() + nv > budget)
+            fail(at, "the scene would exceed " + str(budget) + " vertices or triangles (a mesh instanced by " +
+                         str(visits) + " node visits; the limit is 16 per byte of the file's buffers, at least 2^22)");
 
         const uint32_t material = material_index(prim.material, at + "/material");
         const UvTransform& buv = prim.material >= 0 && size_t(prim.material) < base_uv.size()
@@ -1040,6 +1047,10 @@ Scene load(const std::string& bytes, const std::string& file) {
     if (!warn.empty()) scene.warnings.push_back(file + ": " + one_line(warn));
     L.check_extensions();
 
+    uint64_t buffer_bytes = 0;
+    for (const auto& b : L.model.buffers) buffer_bytes += b.data.size();
+    L.budget = size_t(
+        std::min<uint64_t>(kMaxTriangles, std::max<uint64_t>(kMinInstancingBudget, kInstancingPerByte * buffer_bytes)));
     L.convert_materials();
     if (!L.model.scenes.empty()) {
         int si = L.model.defaultScene;

@@ -580,6 +580,27 @@ TEST(GltfLoader, DamagedFilesEndInOneLineNamingTheFileAndJsonPathWithinLittleMem
             {"index past the vertices", dir.file("index.gltf", g.text()), {"/meshes/0/primitives/0/indices: index 3"}});
     }
     cases.push_back({"not JSON", dir.file("garbage.gltf", "{\"asset\": [1, 2"), {"invalid JSON"}});
+    {
+        // A mesh of 4096 vertices (48 kB) placed 2^15 times through nodes that name their child twice: 2^27
+        // vertices (8 GB) from a 64 kB file.
+        Gltf g;
+        std::vector<float> pos(3 * 4096, 0.f);
+        pos[3] = 1.f, pos[7] = 1.f;
+        const int mesh = g.mesh({{"POSITION", g.floats(pos, "VEC3", 3)}},
+                                g.accessor(g.view(bytes_of<uint16_t>({0, 1, 2})), kUShort, 3, "SCALAR"));
+        for (int k = 0; k < 15; ++k) g.node({{"children", {k + 1, k + 1}}});
+        g.node({{"mesh", mesh}});
+        g.scene({0});
+        cases.push_back(
+            {"instancing bomb", dir.file("bomb.gltf", g.text()), {"/meshes/0/primitives/0: the scene would exceed"}});
+        // 2^21 node visits of nothing.
+        Gltf h;
+        for (int k = 0; k < 21; ++k) h.node({{"children", {k + 1, k + 1}}});
+        h.node(json::object());
+        h.scene({0});
+        h.view("abcd");
+        cases.push_back({"node visits", dir.file("visits.gltf", h.text()), {"node instances"}});
+    }
 
     const ChildResult idle = run_bounded([] { return 0; });
     ASSERT_TRUE(idle.finished);
