@@ -5,7 +5,8 @@
 //  * white furnace: directional albedo <= 1 (importance-transported: refraction times eta^2) for every combination
 //    with colours 1; a metal of base colour 1 and roughness 0 reflects exactly 1; the single-scattering GGX metal at
 //    roughness 1 (alpha 1) loses what the closed form and the literature say;
-//  * reciprocity of eval() for reflection; specular 0 is exactly Lambert (the glTF Cornell box's base).
+//  * reciprocity of eval() for reflection; specular 0 is exactly Lambert (the glTF Cornell box's base);
+//  * Beer-Lambert attenuation through a solid (KHR_materials_volume), applied by the path tracer.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,6 +16,7 @@
 #include "core/material_params.h"
 #include "core/warp.h"
 #include "tests/support/chi2.h"
+#include "tests/support/scenes.h"
 #include "tests/support/stats.h"
 
 namespace pv {
@@ -280,6 +282,45 @@ TEST(MetallicRoughnessBsdf, OnlyTheNonZeroLobesArePresent) {
     const auto& m = std::get<MetallicRoughness>(built);
     EXPECT_EQ(m.metallic, 1.f);
     EXPECT_EQ(m.alpha, 0.25f);
+}
+
+// A slab of thickness d (two facing quads, the front z = d/2 facing +z, the back z = -d/2 facing -z) of a solid,
+// smooth, IOR-1 transmissive material (no Fresnel, no refraction: the only lobe is the straight transmission) in a
+// white environment: a camera ray through it carries exactly exp(-sigma d) = attenuation_color^(d / distance).
+TEST(MetallicRoughnessVolume, BeerLambertThroughASolidSlab) {
+    const float d = 0.8f;
+    for (const bool thin : {false, true}) {
+        auto scene = std::make_shared<Scene>();
+        Material m;
+        MetallicRoughness b = mr(vec3(1.f), 0.f, 0.f, 1.f, 1.f, thin);
+        b.attenuation_color = vec3(0.5f, 0.25f, 1.f);
+        b.attenuation_distance = 2.f;
+        m.bsdf = make_metallic_roughness(b);
+        const uint32_t id = test::add_material(*scene, m);
+        const float h = 1.f, z = 0.5f * d;
+        test::add_quad(*scene, vec3(-h, -h, z), vec3(h, -h, z), vec3(h, h, z), vec3(-h, h, z), id);
+        test::add_quad(*scene, vec3(-h, -h, -z), vec3(-h, h, -z), vec3(h, h, -z), vec3(h, -h, -z), id);
+        scene->environment.background = vec3(1.f);
+        const test::Tracer tracer(scene);
+        CameraDesc cam;
+        cam.eye = vec3(0.f, 0.f, 3.f);
+        cam.target = vec3(0.f);
+        cam.vfov_deg = 1.f;
+        RenderSettings s;
+        s.sampler = SamplerKind::Independent;
+        for (const bool nee : {false, true}) {
+            s.light_sampling = nee;
+            const vec3 expected = thin ? vec3(1.f) : glm::pow(b.attenuation_color, vec3(d / b.attenuation_distance));
+            int n = 0;
+            tracer.for_each_sample(cam, s, 2, 2, 8, [&](int, int, uint32_t, vec3 v) {
+                ++n;
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(v[c], expected[c], 1e-4f * expected[c])
+                        << (thin ? "thin" : "solid") << " channel " << c;
+            });
+            EXPECT_EQ(n, 32);
+        }
+    }
 }
 
 }  // namespace
