@@ -174,6 +174,10 @@ void prepare_metallic_roughness(MetallicRoughness& m) {
     if (m.metallic < 1.f && m.transmission > 0.f) lobes |= MR::kTransmission;
     m.lobes = lobes;
     m.delta_only = m.alpha == 0.f && !m.has(MR::kDiffuse);
+    m.sigma = vec3(0.f);
+    if (m.solid() && std::isfinite(m.attenuation_distance))
+        for (int c = 0; c < 3; ++c)
+            m.sigma[c] = -std::log(glm::max(m.attenuation_color[c], 1e-30f)) / m.attenuation_distance;
 }
 
 MetallicRoughness make_metallic_roughness(MetallicRoughness m) {

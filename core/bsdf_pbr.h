@@ -16,7 +16,8 @@
 // and transmission lobes delta lobes. Only lobes whose parameters are non-zero are present (lobes below).
 // Solid transmission (thin_walled false) is oriented like Dielectric: wo.z < 0 is inside, where the relative IOR is
 // 1 / ior; refracted radiance is scaled by 1/eta^2 as Dielectric's is. Other configurations are two-sided.
-// Beer-Lambert attenuation (attenuation_color/distance) is carried but not applied by the integrator.
+// Beer-Lambert attenuation (attenuation_color/distance, KHR_materials_volume) is applied by the path tracer to the
+// segments a path travels inside a solid one, entered and left by refraction (not by the sky guide's training paths).
 #pragma once
 
 #include <cmath>
@@ -48,6 +49,9 @@ struct MetallicRoughness {
     vec3 spec_f0{0.04f};      // min(f0 * specular_color, 1), before the specular factor
     uint8_t lobes = kMetal;   // the lobes present
     bool delta_only = false;  // every present lobe is a delta lobe (is_delta())
+    // Beer-Lambert absorption coefficient inside a solid one, -ln(attenuation_color) / attenuation_distance per unit
+    // length (0: none); the integrator applies exp(-sigma t) to path segments inside (core/integrator.cpp).
+    vec3 sigma{0.f};
 
     bool has(Lobe l) const { return (lobes & l) != 0; }
     bool solid() const { return has(kTransmission) && !thin_walled; }

@@ -58,6 +58,7 @@ void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings,
     m_prev_pdf = 0.f;
     m_prev_p = vec3(0.f);
     m_eta_scale = 1.f;
+    m_absorbing = false;
     m_depth = 0;
     m_counters = PathCounters{};
 }
@@ -91,6 +92,8 @@ bool PathWalker::step_with() {
                     return finish();
                 }
                 ++m_counters.vertices;
+                if (m_absorbing) [[unlikely]]
+                    m_beta *= glm::exp(-m_sigma * hit.t);  // Beer-Lambert inside a solid (m_ray.d is a unit vector)
                 // The hit triangle's vertices, uvs and material from its packed record (one cache line) when there is
                 // one.
                 m_record = kPacked ? ts.triangle_record(hit.prim) : nullptr;
@@ -257,6 +260,14 @@ bool PathWalker::step_with() {
                 }
                 if ((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) return finish();  // would leak through
                 m_beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
+                if ((bs->wi.z > 0.f) != (wo.z > 0.f)) [[unlikely]] {
+                    // A transmission: into or out of an absorbing solid (oriented frame: wo.z > 0 is outside).
+                    const auto* mr = std::get_if<MetallicRoughness>(bsdf);
+                    if (mr && mr->solid()) {
+                        m_absorbing = wo.z > 0.f && !is_black(mr->sigma);
+                        m_sigma = mr->sigma;
+                    }
+                }
                 if (!is_finite(m_beta) || is_black(m_beta)) return finish();
                 m_specular_bounce = bs->is_delta;
                 m_prev_pdf = bs->pdf;
