@@ -713,7 +713,14 @@ uint32_t Loader::texture_of(const tinygltf::TextureInfo& info, const std::string
         warn_once(at, at + "/index: texture " + std::to_string(info.index) + " does not exist; flat colour used");
         return kNoIndex;
     }
-    const int source = model.textures[size_t(info.index)].source;
+    const tinygltf::Texture& texture = model.textures[size_t(info.index)];
+    const int source = texture.source;
+    if (texture.sampler >= 0 && size_t(texture.sampler) < model.samplers.size()) {
+        const tinygltf::Sampler& sm = model.samplers[size_t(texture.sampler)];
+        if (sm.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT || sm.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT)
+            warn_once("wrap", ptr({"samplers", str(size_t(texture.sampler))}) +
+                                  ": clamped or mirrored wrapping is not supported; textures repeat");
+    }
     const uint32_t id = source >= 0 ? image_texture_index(source) : kNoIndex;
     if (id == kNoIndex) {
         warn_once(at, at + ": texture " + std::to_string(info.index) +
@@ -807,6 +814,11 @@ void Loader::convert_materials() {
             m.alpha_texture = uint32_t(s.textures.size() - 1);
         }
         m.bsdf = gltf_bsdf(g);
+        // Textures read by neither the BSDF nor the loader yet (occlusionTexture is not used on purpose: a path tracer
+        // computes occlusion).
+        if (pbr.metallicRoughnessTexture.index >= 0)
+            warn_once("mr texture", "metallicRoughnessTexture is not used yet; the metallic and roughness factors are");
+        if (gm.normalTexture.index >= 0) warn_once("normal texture", "normalTexture is not used yet");
 
         // Emission: emissiveFactor x KHR_materials_emissive_strength (x emissiveTexture).
         vec3 e(0.f);
