@@ -370,7 +370,7 @@ void Panel::scene(ViewState& state, PanelActions& act) {
         ImGui::InputText("##scene", m_scene_path, sizeof m_scene_path, ImGuiInputTextFlags_EnterReturnsTrue);
     log_widget("scene_path");
     ImGui::BeginDisabled(state.scene_loading);
-    const bool clicked = ImGui::Button(state.scene_loading ? "Loading..." : "Load (.json or .obj)");
+    const bool clicked = ImGui::Button(state.scene_loading ? "Loading..." : "Load (.json, .obj, .gltf, .glb)");
     ImGui::EndDisabled();
     if ((clicked || entered) && !state.scene_loading) {
         state.scene_path = m_scene_path;
