@@ -654,6 +654,34 @@ TEST(GltfLoader, SceneFileNamesAGltfFileWithItsCameraOverridesAndBookmarks) {
     EXPECT_NO_THROW(find_bookmark(c, "file view"));
 }
 
+TEST(GltfLoader, ExternalBinAndImageFilesWithPercentEncodedNames) {
+    TempDir dir;
+    Gltf g;
+    const int tri = g.mesh({{"POSITION", g.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3)},
+                            {"TEXCOORD_0", g.floats({0, 0, 1, 0, 0, 1}, "VEC2", 2)}},
+                           -1, -1, 0);
+    const uint8_t px[4][4] = {{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 255, 255}};
+    dir.file("my texture.tga", tga_2x2(px));
+    g.j["images"] = {{{"uri", "my%20texture.tga"}}};
+    g.j["textures"] = {{{"source", 0}}};
+    g.j["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+    g.scene({g.node({{"mesh", tri}})});
+    dir.file("my mesh.bin", g.bin);
+    const Scene s = load_scene(dir.file("external.gltf", g.text_with_bin("my%20mesh.bin")));
+    for (const std::string& w : s.warnings) EXPECT_NE(w.find("no emitter"), std::string::npos) << w;
+    ASSERT_EQ(s.triangle_count(), 1u);
+    ASSERT_NE(s.materials[0].base_color_texture, kNoIndex);
+    EXPECT_EQ(s.textures[s.materials[0].base_color_texture].texels()[0], vec4(1, 0, 0, 1));
+    // A missing image is a warning and the flat colour, not an error.
+    fs::remove(dir.path / "my texture.tga");
+    const Scene t = load_scene((dir.path / "external.gltf").string());
+    EXPECT_EQ(t.materials[0].base_color_texture, kNoIndex);
+    bool warned = false;
+    for (const std::string& w : t.warnings)
+        warned |= w.find("/pbrMetallicRoughness/baseColorTexture") != std::string::npos;
+    EXPECT_TRUE(warned);
+}
+
 // ------------------------------------------------------------------------------------------------- Cornell box
 
 // The OBJ Cornell box as glTF: one primitive per material (baseColorFactor = Kd, metallic 0, KHR_materials_specular
