@@ -128,7 +128,8 @@ void check_merge_memory(const std::string& part, int width, int height) {
 }
 
 void add_common_options(CLI::App& cmd, CommonOptions& o) {
-    cmd.add_option("scene", o.scene, "Scene: a .json scene file or an .obj (default: the built-in Cornell box)");
+    cmd.add_option("scene", o.scene,
+                   "Scene: a .json scene file, an .obj, a .gltf or a .glb (default: the built-in Cornell box)");
     cmd.add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
     cmd.add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
     cmd.add_option("--threads", o.threads, "Render threads (0: every core this process may use; at most that many)")

@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
         "  pathview render [SCENE] -o OUT    render headless to .exr or .png\n"
         "  pathview bench [SCENE]            speed against error\n"
         "  pathview merge OUT PART...        merge partial renders (render --samples START:COUNT)\n"
-        "SCENE is a .json scene file or an .obj; default: the built-in Cornell box.",
+        "SCENE is a .json scene file, an .obj, a .gltf or a .glb; default: the built-in Cornell box.",
         "pathview"};
     app.set_version_flag("--version", std::string("pathview ") + pv::kVersion);
     CLI::App* view_cmd = nullptr;

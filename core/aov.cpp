@@ -26,6 +26,7 @@ vec3 base_color(const Bsdf& bsdf) {
     if (const auto* l = std::get_if<Lambertian>(&bsdf)) return l->albedo;
     if (const auto* g = std::get_if<Glossy>(&bsdf)) return glm::min(g->diffuse + g->specular, vec3(1.f));
     if (const auto* m = std::get_if<Mirror>(&bsdf)) return m->reflectance;
+    if (const auto* m = std::get_if<MetallicRoughness>(&bsdf)) return m->base_color;  // glTF's base colour
     return vec3(1.f);
 }
 
@@ -58,13 +59,15 @@ FeatureSample trace_features(const TraceableScene& ts, Ray ray, Sampler& sampler
             return out;
         }
         // A delta surface: continue along its (chosen) specular direction, in the integrator's frame convention.
-        const bool is_glass = std::holds_alternative<Dielectric>(mat.bsdf);
+        const bool is_glass = oriented_eta(mat.bsdf) != 0.f;
         const vec3 ng = (is_glass || front) ? sf.ng : -sf.ng;
         const vec3 frame_n = (is_glass || front) ? sf.ns : -sf.ns;
         const Frame frame((glm::dot(-ray.d, frame_n) > 0.f) == (glm::dot(-ray.d, ng) > 0.f) ? frame_n : ng);
         const auto bs = sample(mat.bsdf, frame.to_local(-ray.d), sampler.get1d(), vec2(0.5f));
         if (!bs) return FeatureSample{};
         if (const auto* m = std::get_if<Mirror>(&mat.bsdf)) tint *= m->reflectance;  // glass: untinted
+        if (std::holds_alternative<MetallicRoughness>(mat.bsdf))  // its lobe's weight (base colour, Fresnel)
+            tint *= glm::min(bs->f * (std::fabs(bs->wi.z) / bs->pdf), vec3(1.f));
         const vec3 wi = frame.to_world(bs->wi);
         ray.o = offset_ray_origin(sf.p, glm::dot(wi, sf.ng) > 0.f ? sf.ng : -sf.ng, sf.p_error);
         ray.d = wi;

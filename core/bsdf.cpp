@@ -181,16 +181,19 @@ float alpha_from_ns(float ns) { return glm::clamp(std::sqrt(2.f / (glm::max(ns, 
 namespace detail {
 vec3 eval_other(const Bsdf& bsdf, vec3 wo, vec3 wi) {
     if (const auto* g = std::get_if<Glossy>(&bsdf)) return eval_lobe(*g, wo, wi);
+    if (const auto* m = std::get_if<MetallicRoughness>(&bsdf)) return eval_mr(*m, wo, wi);
     return std::holds_alternative<Lambertian>(bsdf) ? eval(bsdf, wo, wi) : vec3(0.f);
 }
 float pdf_other(const Bsdf& bsdf, vec3 wo, vec3 wi) {
     if (const auto* g = std::get_if<Glossy>(&bsdf)) return pdf_lobe(*g, wo, wi);
+    if (const auto* m = std::get_if<MetallicRoughness>(&bsdf)) return pdf_mr(*m, wo, wi);
     return std::holds_alternative<Lambertian>(bsdf) ? pdf(bsdf, wo, wi) : 0.f;
 }
 std::optional<BsdfSample> sample_other(const Bsdf& bsdf, vec3 wo, float u_lobe, vec2 u) {
     if (const auto* g = std::get_if<Glossy>(&bsdf)) return sample_lobe(*g, wo, u_lobe, u);
     if (const auto* d = std::get_if<Dielectric>(&bsdf)) return sample_lobe(*d, wo, u_lobe);
     if (const auto* m = std::get_if<Mirror>(&bsdf)) return sample_lobe(*m, wo);
+    if (const auto* m = std::get_if<MetallicRoughness>(&bsdf)) return sample_mr(*m, wo, u_lobe, u);
     return sample(bsdf, wo, u_lobe, u);  // Lambertian: handled inline in bsdf.h
 }
 }  // namespace detail
@@ -198,10 +201,12 @@ std::optional<BsdfSample> sample_other(const Bsdf& bsdf, vec3 wo, float u_lobe, 
 void set_base_color(Bsdf& bsdf, vec3 color) {
     if (auto* l = std::get_if<Lambertian>(&bsdf)) l->albedo = glm::clamp(color, vec3(0.f), vec3(1.f));
     if (auto* g = std::get_if<Glossy>(&bsdf)) g->diffuse = glm::clamp(color, vec3(0.f), vec3(1.f) - g->specular);
+    if (auto* m = std::get_if<MetallicRoughness>(&bsdf)) m->base_color = glm::clamp(color, vec3(0.f), vec3(1.f));
 }
 
 const char* bsdf_type_name(const Bsdf& bsdf) {
-    static const char* names[] = {"diffuse", "mirror", "glass", "glossy"};
+    static const char* names[] = {"diffuse", "mirror", "glass", "glossy", "metallic-roughness"};
+    static_assert(std::variant_size_v<Bsdf> == sizeof names / sizeof names[0]);
     return names[bsdf.index()];
 }
 

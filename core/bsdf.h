@@ -10,6 +10,7 @@
 #include <string>
 #include <variant>
 
+#include "core/bsdf_pbr.h"
 #include "core/math.h"
 #include "core/warp.h"
 
@@ -50,7 +51,8 @@ struct Glossy {
     float alpha = 0.2f;
 };
 
-using Bsdf = std::variant<Lambertian, Mirror, Dielectric, Glossy>;
+// MetallicRoughness: glTF 2.0's material, core/bsdf_pbr.h.
+using Bsdf = std::variant<Lambertian, Mirror, Dielectric, Glossy, MetallicRoughness>;
 
 // f(wo, wi), without the cosine. Zero for delta lobes.
 inline vec3 eval(const Bsdf& bsdf, vec3 wo, vec3 wi);
@@ -61,14 +63,30 @@ inline float pdf(const Bsdf& bsdf, vec3 wo, vec3 wi);
 inline std::optional<BsdfSample> sample(const Bsdf& bsdf, vec3 wo, float u_lobe, vec2 u);
 // True if every lobe is a delta function (no light sampling is useful).
 inline bool is_delta(const Bsdf& bsdf) {
-    return std::holds_alternative<Mirror>(bsdf) || std::holds_alternative<Dielectric>(bsdf);
+    if (std::holds_alternative<Mirror>(bsdf) || std::holds_alternative<Dielectric>(bsdf)) return true;
+    const auto* m = std::get_if<MetallicRoughness>(&bsdf);
+    return m && m->delta_only;
+}
+// The relative IOR n_inside / n_outside of a BSDF that tells inside (wo.z < 0) from outside (the dielectric, a solid
+// transmissive metallic-roughness material), whose shading frame must not be flipped toward wo; 0 for the two-sided
+// ones.
+inline float oriented_eta(const Bsdf& bsdf) {
+    if (const auto* d = std::get_if<Dielectric>(&bsdf)) return d->eta;
+    const auto* m = std::get_if<MetallicRoughness>(&bsdf);
+    return m && m->solid() ? m->ior : 0.f;
+}
+// Whether eval() can be nonzero for wo and wi on opposite sides (a transmission lobe that is not a delta lobe).
+inline bool transmits(const Bsdf& bsdf) {
+    const auto* m = std::get_if<MetallicRoughness>(&bsdf);
+    return m && m->has(MetallicRoughness::kTransmission) && m->alpha > 0.f;
 }
 // Whether wo and wi are strictly on the same side, where alone the reflection-only lobes (Lambertian, Glossy: the
-// ones a base-colour texture applies to) can be nonzero: where it is false their eval() is zero whatever the colour,
-// so a caller can skip a direction before looking the colour up.
+// ones a base-colour texture applies to, with transmits() false) can be nonzero: where it is false their eval() is zero
+// whatever the colour, so a caller can skip a direction before looking the colour up.
 inline bool reflects(vec3 wo, vec3 wi) { return wo.z > 0.f ? wi.z > 0.f : (wo.z < 0.f && wi.z < 0.f); }
 const char* bsdf_type_name(const Bsdf& bsdf);
-// Sets the diffuse colour (Lambertian albedo, Glossy diffuse clamped so diffuse + specular <= 1); others unchanged.
+// Sets the diffuse colour (Lambertian albedo, Glossy diffuse clamped so diffuse + specular <= 1, MetallicRoughness
+// base colour clamped to [0, 1]); others unchanged.
 void set_base_color(Bsdf& bsdf, vec3 color);
 
 // GGX (Trowbridge-Reitz) helpers, isotropic; exposed for tests.

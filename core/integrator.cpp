@@ -58,6 +58,7 @@ void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings,
     m_prev_pdf = 0.f;
     m_prev_p = vec3(0.f);
     m_eta_scale = 1.f;
+    m_absorbing = false;
     m_depth = 0;
     m_counters = PathCounters{};
 }
@@ -91,6 +92,8 @@ bool PathWalker::step_with() {
                     return finish();
                 }
                 ++m_counters.vertices;
+                if (m_absorbing) [[unlikely]]
+                    m_beta *= glm::exp(-m_sigma * hit.t);  // Beer-Lambert inside a solid (m_ray.d is a unit vector)
                 // The hit triangle's vertices, uvs and material from its packed record (one cache line) when there is
                 // one.
                 m_record = kPacked ? ts.triangle_record(hit.prim) : nullptr;
@@ -196,10 +199,10 @@ bool PathWalker::step_with() {
                         // An untextured BSDF is evaluated first (no shadow ray toward a black value), a textured one
                         // once the shadow ray is traced: its traversal hides the load of the prefetched texels.
                         // Textures apply to reflection-only lobes, black below the surface whatever the colour: no
-                        // shadow ray there either.
+                        // shadow ray there either (unless a metallic-roughness material transmits).
                         vec3 f = same_side && !base_color ? eval(*bsdf, wo, wi) : vec3(0.f);
                         bool visible = false;
-                        if (same_side && (base_color ? reflects(wo, wi) : !is_black(f))) {
+                        if (same_side && (base_color ? reflects(wo, wi) || transmits(*bsdf) : !is_black(f))) {
                             const Ray shadow = shadow_ray(origin_toward(ls.wi), ls);
                             ++m_counters.shadow_rays;
                             visible = !ts.occluded(shadow);
@@ -218,6 +221,22 @@ bool PathWalker::step_with() {
                             }
                             m_L += m_beta * f * (std::fabs(wi.z) * w_over_pdf) * ls.le;
                         }
+                    }
+                }
+
+                // Punctual lights (glTF KHR_lights_punctual): delta lights, reached by next-event estimation alone
+                // (no BSDF sample can hit them), every one at every non-delta vertex, without a random draw or MIS.
+                if (!scene.punctual_lights.empty() && settings.light_sampling && !is_delta(*bsdf)) {
+                    for (const PunctualLight& light : scene.punctual_lights) {
+                        LightSample ls;
+                        if (!sample_punctual(light, sf.p, ls)) continue;
+                        const vec3 wi = frame.to_local(ls.wi);
+                        if ((glm::dot(ls.wi, ng) > 0.f) != (wi.z > 0.f)) continue;
+                        const vec3 f = eval(shade(), wo, wi);
+                        if (is_black(f)) continue;
+                        ++m_counters.shadow_rays;
+                        if (ts.occluded(shadow_ray(origin_toward(ls.wi), ls))) continue;
+                        m_L += m_beta * f * std::fabs(wi.z) * ls.le;
                     }
                 }
 
@@ -241,6 +260,14 @@ bool PathWalker::step_with() {
                 }
                 if ((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) return finish();  // would leak through
                 m_beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
+                if ((bs->wi.z > 0.f) != (wo.z > 0.f)) [[unlikely]] {
+                    // A transmission: into or out of an absorbing solid (oriented frame: wo.z > 0 is outside).
+                    const auto* mr = std::get_if<MetallicRoughness>(bsdf);
+                    if (mr && mr->solid()) {
+                        m_absorbing = wo.z > 0.f && !is_black(mr->sigma);
+                        m_sigma = mr->sigma;
+                    }
+                }
                 if (!is_finite(m_beta) || is_black(m_beta)) return finish();
                 m_specular_bounce = bs->is_delta;
                 m_prev_pdf = bs->pdf;

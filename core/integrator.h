@@ -115,6 +115,10 @@ private:
     float m_prev_pdf = 0.f;  // solid-angle pdf of the BSDF sample that produced m_ray
     vec3 m_prev_p{0.f};
     float m_eta_scale = 1.f;
+    // Inside an absorbing solid (a metallic-roughness material with KHR_materials_volume attenuation): its
+    // Beer-Lambert coefficient, applied to the segment to the next hit.
+    bool m_absorbing = false;
+    vec3 m_sigma{0.f};
     int m_depth = 0;
     PathCounters m_counters;
     // The vertex in flight, from one stage to the next.

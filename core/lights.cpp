@@ -66,4 +66,39 @@ float LightSet::pdf(uint32_t tri, vec3 ref, vec3 p, vec3 n) const {
     return pdf_area * d2 / cos_l;
 }
 
+bool sample_punctual(const PunctualLight& l, vec3 ref, LightSample& out) {
+    out.pdf = 1.f;
+    out.p_error = vec3(0.f);
+    if (l.type == PunctualLight::Type::Directional) {
+        out.wi = -l.direction;
+        out.dist = std::numeric_limits<float>::infinity();
+        out.p = ref;
+        out.n = l.direction;
+        out.le = l.intensity;
+        return !is_black(out.le);
+    }
+    const vec3 d = l.position - ref;
+    const float d2 = glm::dot(d, d);
+    if (!(d2 > 0.f) || !std::isfinite(d2)) return false;
+    out.dist = std::sqrt(d2);
+    out.wi = d / out.dist;
+    out.p = l.position;
+    out.n = -out.wi;
+    float scale = 1.f / d2;
+    if (l.range > 0.f) {
+        // KHR_lights_punctual's recommended falloff: clamp(1 - (d / range)^4, 0, 1)^2 / d^2.
+        const float r = d2 / (l.range * l.range);
+        scale *= sqr(glm::clamp(1.f - r * r, 0.f, 1.f));
+    }
+    if (l.type == PunctualLight::Type::Spot) {
+        // The extension's smooth cone: t = clamp((cos - cos_outer) / max(1e-3, cos_inner - cos_outer), 0, 1), t^2.
+        const float cos_outer = std::cos(l.outer_cone_rad), cos_inner = std::cos(l.inner_cone_rad);
+        const float t =
+            glm::clamp((glm::dot(l.direction, -out.wi) - cos_outer) / std::max(1e-3f, cos_inner - cos_outer), 0.f, 1.f);
+        scale *= t * t;
+    }
+    out.le = l.intensity * scale;
+    return !is_black(out.le) && is_finite(out.le);
+}
+
 }  // namespace pv

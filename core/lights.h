@@ -57,6 +57,13 @@ constexpr float kMinSphericalSolidAngle = 3e-4f;
 constexpr float kMaxSphericalSolidAngle = 6.22f;
 constexpr float kSphericalNearRadii = 2.f;
 
+// The light a glTF punctual light (Scene::punctual_lights, KHR_lights_punctual) sends toward `ref`: out.wi (unit,
+// toward the light), out.dist (infinite for a directional light), out.p and out.n for shadow_ray, and out.le the
+// irradiance it gives a surface at `ref` facing it: intensity / d^2 times the range falloff and the spot's cone
+// (point and spot), intensity (directional). A delta light: out.pdf = 1, no MIS (no BSDF sample can hit it). False
+// when it sends nothing there.
+bool sample_punctual(const PunctualLight& light, vec3 ref, LightSample& out);
+
 class LightSet {
 public:
     LightSet() = default;

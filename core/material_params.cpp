@@ -19,6 +19,18 @@ BsdfParams bsdf_params(const Bsdf& bsdf) {
     } else if (const auto* d = std::get_if<Dielectric>(&bsdf)) {
         p.type = BsdfType::Glass;
         p.ior = d->eta;
+    } else if (const auto* mr = std::get_if<MetallicRoughness>(&bsdf)) {
+        p.type = BsdfType::MetallicRoughness;
+        p.base = mr->base_color;
+        p.specular = mr->specular_color;
+        p.roughness = mr->roughness;
+        p.ior = mr->ior;
+        p.metallic = mr->metallic;
+        p.transmission = mr->transmission;
+        p.specular_weight = mr->specular;
+        p.thin_walled = mr->thin_walled;
+        p.attenuation_color = mr->attenuation_color;
+        p.attenuation_distance = mr->attenuation_distance;
     }
     return p;
 }
@@ -42,6 +54,21 @@ Bsdf make_bsdf(const BsdfParams& p) {
             return Mirror{unit(p.base)};
         case BsdfType::Glass:
             return Dielectric{std::isfinite(p.ior) && p.ior > 0.f ? p.ior : 1.5f};
+        case BsdfType::MetallicRoughness: {
+            MetallicRoughness m;  // prepare_metallic_roughness() clamps every field
+            m.base_color = p.base;
+            m.specular_color = p.specular;
+            m.roughness = p.roughness;
+            m.ior = p.ior;
+            m.metallic = p.metallic;
+            m.transmission = p.transmission;
+            m.specular = p.specular_weight;
+            m.thin_walled = p.thin_walled;
+            m.attenuation_color = p.attenuation_color;
+            m.attenuation_distance = p.attenuation_distance;
+            prepare_metallic_roughness(m);
+            return m;
+        }
         case BsdfType::Diffuse:
             break;
     }
@@ -49,8 +76,8 @@ Bsdf make_bsdf(const BsdfParams& p) {
 }
 
 bool parse_bsdf_type(const std::string& name, BsdfType& out) {
-    static const char* const names[] = {"diffuse", "glossy", "mirror", "glass"};
-    for (int i = 0; i < 4; ++i)
+    static const char* const names[] = {"diffuse", "glossy", "mirror", "glass", "metallic-roughness"};
+    for (int i = 0; i < 5; ++i)
         if (name == names[i]) {
             out = BsdfType(i);
             return true;

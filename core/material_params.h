@@ -2,21 +2,28 @@
 // that builds a BSDF from user parameters (the viewer's material editor, scene.json material overrides, the MTL
 // loader's glossy materials) goes through make_bsdf(), so the promises of core/bsdf.h hold everywhere: colours in
 // [0, 1], a glossy material's diffuse + specular <= 1 per channel (its albedo stays <= 1), GGX roughness in
-// [kMinAlpha, 1], and a positive finite IOR.
+// [kMinAlpha, 1], and a positive finite IOR (a metallic-roughness material: factors in [0, 1] as well).
 #pragma once
 
 #include "core/bsdf.h"
 
 namespace pv {
 
-enum class BsdfType : int { Diffuse = 0, Glossy = 1, Mirror = 2, Glass = 3 };
+enum class BsdfType : int { Diffuse = 0, Glossy = 1, Mirror = 2, Glass = 3, MetallicRoughness = 4 };
 
 struct BsdfParams {
     BsdfType type = BsdfType::Diffuse;
-    vec3 base{0.8f};         // diffuse albedo; a mirror's reflectance
-    vec3 specular{0.04f};    // glossy: the GGX lobe's Fresnel reflectance (MTL Ks)
-    float roughness = 0.2f;  // glossy: GGX alpha
-    float ior = 1.5f;        // glass: n_inside / n_outside
+    vec3 base{0.8f};         // diffuse albedo; a mirror's reflectance; metallic-roughness: base colour
+    vec3 specular{0.04f};    // glossy: the GGX lobe's Fresnel reflectance (MTL Ks); metallic-roughness: specular colour
+    float roughness = 0.2f;  // glossy: GGX alpha; metallic-roughness: perceptual roughness (alpha = roughness^2)
+    float ior = 1.5f;        // glass: n_inside / n_outside; metallic-roughness: its IOR
+    // metallic-roughness only (core/bsdf_pbr.h):
+    float metallic = 0.f;
+    float transmission = 0.f;
+    float specular_weight = 1.f;  // KHR_materials_specular's specularFactor
+    bool thin_walled = true;
+    vec3 attenuation_color{1.f};
+    float attenuation_distance = INFINITY;
 };
 
 // The parameters of `bsdf` (the fields its type does not use keep their defaults, except that a mirror's
@@ -25,7 +32,8 @@ BsdfParams bsdf_params(const Bsdf& bsdf);
 // The BSDF of `p`, clamped to the invariants above (a non-finite or non-positive IOR becomes 1.5; callers that
 // read user input reject those first with a message).
 Bsdf make_bsdf(const BsdfParams& p);
-// "diffuse", "glossy", "mirror", "glass" (bsdf_type_name's words) <-> BsdfType; false for anything else.
+// "diffuse", "glossy", "mirror", "glass", "metallic-roughness" (bsdf_type_name's words) <-> BsdfType; false for
+// anything else.
 bool parse_bsdf_type(const std::string& name, BsdfType& out);
 
 }  // namespace pv

@@ -114,6 +114,18 @@ void hash_material(Hasher& h, const Material& m) {
                 h.value(b.specular);
                 h.value(b.alpha);
             }
+            if constexpr (std::is_same_v<T, MetallicRoughness>) {  // a new type: OBJ hashes are unchanged
+                h.value(b.base_color);
+                h.value(b.metallic);
+                h.value(b.roughness);
+                h.value(b.ior);
+                h.value(b.specular);
+                h.value(b.specular_color);
+                h.value(b.transmission);
+                h.value(uint8_t(b.thin_walled));
+                h.value(b.attenuation_color);
+                h.value(b.attenuation_distance);
+            }
         },
         m.bsdf);
     h.value(m.emission);

@@ -8,6 +8,7 @@
 #include "core/environment.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/gltf_loader.h"
 #include "core/image_io.h"
 #include "core/material_params.h"
 #include "core/obj_loader.h"
@@ -109,17 +110,31 @@ json camera_json(const CameraDesc& c) {
 
 // Applies a material override: the "type" chooses the BSDF, other keys set its parameters.
 void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& at) {
-    const json& o = r.object(j, at, {"type", "base_color", "specular", "roughness", "ior", "emission"});
+    const json& o =
+        r.object(j, at,
+                 {"type", "base_color", "specular", "roughness", "ior", "emission", "metallic", "transmission",
+                  "specular_factor", "thin_walled", "attenuation_color", "attenuation_distance"});
     BsdfParams p = bsdf_params(m.bsdf);
     if (o.contains("type")) {
         const std::string type = r.string(o["type"], at / "type");
         if (!parse_bsdf_type(type, p.type))
-            r.fail(at / "type", "unknown type '" + type + "'; expected diffuse, glossy, mirror or glass");
+            r.fail(at / "type",
+                   "unknown type '" + type + "'; expected diffuse, glossy, mirror, glass or metallic-roughness");
     }
     if (o.contains("base_color")) p.base = r.vec(o["base_color"], at / "base_color", 0.f, 1.f);
     if (o.contains("specular")) p.specular = r.vec(o["specular"], at / "specular", 0.f, 1.f);
     if (o.contains("roughness")) p.roughness = r.number(o["roughness"], at / "roughness", 0.f, 1.f);
     if (o.contains("ior")) p.ior = r.number(o["ior"], at / "ior", 1e-3f, 1e3f);
+    // Metallic-roughness parameters (glTF's names, snake_case); the other types ignore them.
+    if (o.contains("metallic")) p.metallic = r.number(o["metallic"], at / "metallic", 0.f, 1.f);
+    if (o.contains("transmission")) p.transmission = r.number(o["transmission"], at / "transmission", 0.f, 1.f);
+    if (o.contains("specular_factor"))
+        p.specular_weight = r.number(o["specular_factor"], at / "specular_factor", 0.f, 1.f);
+    if (o.contains("thin_walled")) p.thin_walled = r.boolean(o["thin_walled"], at / "thin_walled");
+    if (o.contains("attenuation_color"))
+        p.attenuation_color = r.vec(o["attenuation_color"], at / "attenuation_color", 0.f, 1.f);
+    if (o.contains("attenuation_distance"))
+        p.attenuation_distance = r.number(o["attenuation_distance"], at / "attenuation_distance", 1e-6f, kBig);
     if (o.contains("emission")) m.emission = r.vec(o["emission"], at / "emission", 0.f, kBig);
     // A mirror's reflectance is its "specular" colour when given (the MTL's Ks), else its base colour.
     if (p.type == BsdfType::Mirror && o.contains("specular")) p.base = p.specular;
@@ -186,13 +201,18 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     const std::vector<Portal> portals =
         j.contains("portals") ? read_portals(r, j["portals"], root / "portals") : std::vector<Portal>{};
 
-    Scene scene = load_obj((dir / obj).string(), opts);
+    // "obj" may name a glTF file (.gltf, .glb); its camera is the start view unless "camera" is given, and its
+    // cameras come before the file's "bookmarks".
+    const std::string model_path = (dir / obj).string();
+    Scene scene = is_gltf_path(obj) ? load_gltf(model_path) : load_obj(model_path, opts);
+    if (is_gltf_path(obj) && opts.two_sided_emission)
+        for (Material& m : scene.materials) m.two_sided_emission = true;
     scene.source = path;
     scene.portals = portals;
     scene.warnings.insert(scene.warnings.end(), warnings.begin(), warnings.end());
     const JsonReader rs{path, &scene.warnings};
     if (j.contains("background")) scene.environment.background = r.vec(j["background"], root / "background", 0.f, kBig);
-    scene.camera = scene.framing_camera();
+    if (!scene.has_camera) scene.camera = scene.framing_camera();
     if (j.contains("camera")) {
         scene.camera = read_camera(r, cam, root / "camera", scene.camera, false);
         scene.has_camera = true;
@@ -244,7 +264,8 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
             }
         if (!found) scene.warnings.push_back(path + ": material override '" + name + "' matches no material");
     }
-    use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment") || j.contains("sun"));
+    use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment") || j.contains("sun") ||
+                                        !scene.punctual_lights.empty());
     pack_texels(scene.textures);  // the surfaces' textures and the map in one region, on huge pages
     return scene;
 }
@@ -330,16 +351,17 @@ Scene load_scene(const std::string& path) {
     const std::string ext = std::filesystem::path(path).extension().string();
     if (ext == ".json" || ext == ".JSON")
         return load_scene_json_text(read_regular_file(path, kMaxJsonBytes, "a JSON scene file"), path);
-    if (ext == ".obj" || ext == ".OBJ") {
-        Scene scene = load_obj(path);
-        scene.camera = scene.framing_camera();
-        use_default_sky_if_unlit(scene, false);
+    if (ext == ".obj" || ext == ".OBJ" || is_gltf_path(path)) {
+        Scene scene = is_gltf_path(path) ? load_gltf(path) : load_obj(path);
+        if (!scene.has_camera) scene.camera = scene.framing_camera();
+        use_default_sky_if_unlit(scene, !scene.punctual_lights.empty());  // a glTF's punctual lights light it
         pack_texels(scene.textures);  // the surfaces' textures and the sky in one region, on huge pages
         return scene;
     }
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw Error(path + ": no such file; expected a .json scene or an .obj");
-    throw Error(path + ": unknown scene format '" + ext + "'; expected .json or .obj");
+    if (!std::filesystem::exists(path, ec))
+        throw Error(path + ": no such file; expected a .json scene, an .obj, a .gltf or a .glb");
+    throw Error(path + ": unknown scene format '" + ext + "'; expected .json, .obj, .gltf or .glb");
 }
 
 }  // namespace pv

@@ -1,6 +1,6 @@
 // core/scene_file.h: loading a scene from a JSON scene file or an OBJ alone.
 // JSON (all keys but "obj" optional):
-//   { "obj": "cornell-box.obj",                 // relative to the JSON file
+//   { "obj": "cornell-box.obj",                 // relative to the JSON file; or a glTF file (.gltf, .glb)
 //     "camera": { "eye": [x,y,z], "target": [x,y,z], "up": [x,y,z], "fov": 39.3,   // vertical, degrees
 //                 "aperture": 0.0, "focus_distance": 0.0 },                         // lens radius; 0 = at target
 //     "background": [r,g,b],                      // constant radiance of escaping rays (default black)
@@ -16,8 +16,10 @@
 //                              "specular": [r,g,b], "roughness": a, "ior": n, "emission": [r,g,b] } } }
 //   (through core/material_params.h: a glossy material keeps diffuse + specular <= 1 per channel; a mirror
 //   reflects its "specular" colour when given, else its base colour)
-// An OBJ alone is framed automatically from its bounds. A scene with no emitter and neither "background" nor
-// "environment" is lit by the default sky (a warning says so). Errors are pv::Error naming the file.
+// An OBJ alone is framed automatically from its bounds; a glTF file starts at its first perspective camera (framed
+// like an OBJ without one), its cameras listed as bookmarks before those of the JSON. A scene with no emitter and
+// neither "background" nor "environment" is lit by the default sky (a warning says so). Errors are pv::Error naming the
+// file.
 #pragma once
 
 #include <string>
@@ -26,8 +28,8 @@
 
 namespace pv {
 
-// Loads `path` (.json or .obj), its textures' texels packed into one region once it is complete (pack_texels).
-// Throws pv::Error with "<file>: what is wrong".
+// Loads `path` (.json, .obj, .gltf or .glb), its textures' texels packed into one region once it is complete
+// (pack_texels). Throws pv::Error with "<file>: what is wrong".
 Scene load_scene(const std::string& path);
 // Loads a JSON scene file's text; `path` names it in messages and relative paths start from its folder (the
 // fuzzer's entry point). Errors name the file and the JSON pointer of the key: "s.json: /camera/fov: expected ...".

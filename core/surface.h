@@ -81,7 +81,8 @@ struct ShadingNormals {
 };
 [[gnu::always_inline]] inline ShadingNormals shading_normals(const SurfacePoint& sf, vec3 wo_world, bool front,
                                                              const Bsdf& bsdf) {
-    const bool is_glass = std::holds_alternative<Dielectric>(bsdf);
+    const float eta = oriented_eta(bsdf);  // glass, or a solid transmissive metallic-roughness material
+    const bool is_glass = eta != 0.f;
     vec3 ng = sf.ng, ns = sf.ns;
     if (!is_glass && !front) {
         ng = -ng;
@@ -96,7 +97,7 @@ struct ShadingNormals {
     // of the paths into a coarse sphere reached the depth cap). The facets make a true polyhedron, which light
     // leaves again (reversibility); refraction out and everything outside keep the smooth normals.
     if (is_glass && !front && ns != ng) {
-        const float eta = std::get<Dielectric>(bsdf).eta, cos_o = glm::dot(wo_world, ns);
+        const float cos_o = glm::dot(wo_world, ns);
         if ((1.f - cos_o * cos_o) * eta * eta >= 1.f) ns = ng;
     }
     return {ng, ns};

@@ -41,26 +41,37 @@ TEST(MaterialParams, NonFiniteInputsGiveValidBsdfs) {
     p.specular = vec3(kNaN);
     p.roughness = kNaN;
     p.ior = kNaN;
-    for (BsdfType t : {BsdfType::Diffuse, BsdfType::Glossy, BsdfType::Mirror, BsdfType::Glass}) {
+    p.metallic = p.transmission = p.specular_weight = p.attenuation_distance = kNaN;
+    for (BsdfType t :
+         {BsdfType::Diffuse, BsdfType::Glossy, BsdfType::Mirror, BsdfType::Glass, BsdfType::MetallicRoughness}) {
         p.type = t;
         const BsdfParams back = bsdf_params(make_bsdf(p));
         EXPECT_EQ(back.type, t);
         EXPECT_TRUE(is_finite(back.base) && is_finite(back.specular));
         EXPECT_TRUE(std::isfinite(back.roughness) && std::isfinite(back.ior) && back.ior > 0.f);
+        EXPECT_TRUE(std::isfinite(back.metallic) && std::isfinite(back.transmission) &&
+                    std::isfinite(back.specular_weight) && back.attenuation_distance > 0.f);
         for (int c = 0; c < 3; ++c) EXPECT_LE(back.base[c] + (t == BsdfType::Glossy ? back.specular[c] : 0.f), 1.f);
     }
 }
 
 TEST(MaterialParams, RoundTripsValidParameters) {
-    for (BsdfType t : {BsdfType::Diffuse, BsdfType::Glossy, BsdfType::Mirror, BsdfType::Glass}) {
+    for (BsdfType t :
+         {BsdfType::Diffuse, BsdfType::Glossy, BsdfType::Mirror, BsdfType::Glass, BsdfType::MetallicRoughness}) {
         BsdfParams p;
         p.type = t;
         p.base = vec3(0.25f, 0.5f, 0.125f);
         p.specular = t == BsdfType::Mirror ? p.base : vec3(0.5f, 0.25f, 0.75f);
         p.roughness = 0.3f;
         p.ior = 1.33f;
+        p.metallic = 0.375f;
+        p.transmission = 0.625f;
+        p.specular_weight = 0.75f;
+        p.thin_walled = false;
+        p.attenuation_color = vec3(0.5f, 0.75f, 1.f);
+        p.attenuation_distance = 2.f;
         const Bsdf b = make_bsdf(p);
-        static const char* const kNames[] = {"diffuse", "glossy", "mirror", "glass"};
+        static const char* const kNames[] = {"diffuse", "glossy", "mirror", "glass", "metallic-roughness"};
         EXPECT_STREQ(bsdf_type_name(b), kNames[int(t)]);
         BsdfType parsed;
         ASSERT_TRUE(parse_bsdf_type(bsdf_type_name(b), parsed));
@@ -75,6 +86,17 @@ TEST(MaterialParams, RoundTripsValidParameters) {
         }
         if (t == BsdfType::Glass) {
             EXPECT_EQ(q.ior, p.ior);
+        }
+        if (t == BsdfType::MetallicRoughness) {
+            EXPECT_EQ(q.specular, p.specular);
+            EXPECT_EQ(q.roughness, p.roughness);
+            EXPECT_EQ(q.ior, p.ior);
+            EXPECT_EQ(q.metallic, p.metallic);
+            EXPECT_EQ(q.transmission, p.transmission);
+            EXPECT_EQ(q.specular_weight, p.specular_weight);
+            EXPECT_EQ(q.thin_walled, p.thin_walled);
+            EXPECT_EQ(q.attenuation_color, p.attenuation_color);
+            EXPECT_EQ(q.attenuation_distance, p.attenuation_distance);
         }
     }
     BsdfType unused;

@@ -26,7 +26,7 @@ void status_text(const std::string& text, bool ok) {
 bool edit_material(Material& m) {
     BsdfParams f = bsdf_params(m.bsdf);
     int type = int(f.type);
-    bool changed = ImGui::Combo("type", &type, "diffuse\0glossy\0mirror\0glass\0");
+    bool changed = ImGui::Combo("type", &type, "diffuse\0glossy\0mirror\0glass\0metallic-roughness\0");
     f.type = BsdfType(type);
     if (f.type != BsdfType::Glass)
         changed |= ImGui::ColorEdit3(f.type == BsdfType::Mirror ? "reflectance" : "base colour", &f.base.x,
@@ -37,6 +37,13 @@ bool edit_material(Material& m) {
     }
     if (f.type == BsdfType::Glass)
         changed |= ImGui::SliderFloat("IOR", &f.ior, 1.0001f, 3.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+    if (f.type == BsdfType::MetallicRoughness) {  // glTF's factors (core/bsdf_pbr.h)
+        changed |= ImGui::SliderFloat("metallic", &f.metallic, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+        changed |= ImGui::SliderFloat("roughness", &f.roughness, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+        changed |= ImGui::SliderFloat("IOR", &f.ior, 1.f, 3.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+        changed |= ImGui::SliderFloat("transmission", &f.transmission, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+        changed |= ImGui::SliderFloat("specular", &f.specular_weight, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+    }
     if (changed) m.bsdf = make_bsdf(f);
 
     // Emission as a colour (largest channel 1) times a strength.
@@ -363,7 +370,7 @@ void Panel::scene(ViewState& state, PanelActions& act) {
         ImGui::InputText("##scene", m_scene_path, sizeof m_scene_path, ImGuiInputTextFlags_EnterReturnsTrue);
     log_widget("scene_path");
     ImGui::BeginDisabled(state.scene_loading);
-    const bool clicked = ImGui::Button(state.scene_loading ? "Loading..." : "Load (.json or .obj)");
+    const bool clicked = ImGui::Button(state.scene_loading ? "Loading..." : "Load (.json, .obj, .gltf, .glb)");
     ImGui::EndDisabled();
     if ((clicked || entered) && !state.scene_loading) {
         state.scene_path = m_scene_path;
