@@ -61,6 +61,11 @@ struct MetallicRoughness {
 // NaN attenuation distance to infinity) and computes the derived fields.
 void prepare_metallic_roughness(MetallicRoughness& m);
 MetallicRoughness make_metallic_roughness(MetallicRoughness m);  // prepared copy
+// glTF's metallicRoughnessTexture at a hit: multiplies metallic by the texel's B and roughness by its G (linear, in
+// [0, 1]) on a prepared material, keeping its lobes (a lobe whose factor the texel zeroes weighs 0) and its
+// delta-ness (a texel roughness of 0 on a rough material gives kMinAlpha), so that the untextured material's
+// is_delta() and oriented_eta() stay valid for the textured copy.
+void apply_metallic_roughness_texel(MetallicRoughness& m, float metallic, float roughness);
 
 namespace detail {
 vec3 eval_mr(const MetallicRoughness& b, vec3 wo, vec3 wi);
