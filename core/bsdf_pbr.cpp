@@ -174,6 +174,7 @@ void prepare_metallic_roughness(MetallicRoughness& m) {
     if (m.metallic < 1.f && m.transmission > 0.f) lobes |= MR::kTransmission;
     m.lobes = lobes;
     m.delta_only = m.alpha == 0.f && !m.has(MR::kDiffuse);
+    m.lambert_only = m.lobes == MR::kDiffuse && m.metallic == 0.f && m.transmission == 0.f;
     m.sigma = vec3(0.f);
     if (m.solid() && std::isfinite(m.attenuation_distance))
         for (int c = 0; c < 3; ++c)
@@ -193,15 +194,20 @@ MetallicRoughness make_metallic_roughness(MetallicRoughness m) {
 
 namespace detail {
 
-vec3 eval_mr(const MetallicRoughness& b, vec3 wo, vec3 wi) { return eval_side(b, side_of(b, wo, wi), nullptr); }
+vec3 eval_mr(const MetallicRoughness& b, vec3 wo, vec3 wi) {
+    if (b.lambert_only) return eval(Lambertian{b.base_color}, wo, wi);
+    return eval_side(b, side_of(b, wo, wi), nullptr);
+}
 
 float pdf_mr(const MetallicRoughness& b, vec3 wo, vec3 wi) {
+    if (b.lambert_only) return pdf(Lambertian{b.base_color}, wo, wi);
     float pdf = 0.f;
     eval_side(b, side_of(b, wo, wi), &pdf);
     return pdf;
 }
 
 std::optional<BsdfSample> sample_mr(const MetallicRoughness& b, vec3 wo_in, float u_lobe, vec2 u) {
+    if (b.lambert_only) return sample(Lambertian{b.base_color}, wo_in, u_lobe, u);
     if (!(std::fabs(wo_in.z) >= FLT_MIN)) return std::nullopt;  // zero or denormal: a delta f = 1/|cos| overflows
     const Side s = side_of(b, wo_in, vec3(0.f));
     const vec3 wo = s.wo;
