@@ -75,6 +75,11 @@ inline float oriented_eta(const Bsdf& bsdf) {
     const auto* m = std::get_if<MetallicRoughness>(&bsdf);
     return m && m->solid() ? m->ior : 0.f;
 }
+// A metallic-roughness material that is exactly a Lambertian (MetallicRoughness::lambert_only): one lobe.
+inline bool lambert_only(const Bsdf& bsdf) {
+    const auto* m = std::get_if<MetallicRoughness>(&bsdf);
+    return m && m->lambert_only;
+}
 // Whether eval() can be nonzero for wo and wi on opposite sides (a transmission lobe that is not a delta lobe).
 inline bool transmits(const Bsdf& bsdf) {
     const auto* m = std::get_if<MetallicRoughness>(&bsdf);

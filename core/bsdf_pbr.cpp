@@ -113,7 +113,7 @@ vec3 eval_side(const MR& b, const Side& s, float* pdf_out) {
     float pdf = 0.f;
     vec3 f(0.f);
     if (wo.z > 0.f) {
-        const LobeProbs p = lobe_probs(b, wo.z, s.eta);
+        const LobeProbs p = pdf_out ? lobe_probs(b, wo.z, s.eta) : LobeProbs{};  // eval() needs no pdf
         if (wi.z > 0.f) {
             if (b.has(MR::kDiffuse)) {
                 const vec3 t_o = vec3(1.f) - fresnel_layer(b, wo.z, s.eta);
@@ -121,14 +121,14 @@ vec3 eval_side(const MR& b, const Side& s, float* pdf_out) {
                 f += ((1.f - b.metallic) * (1.f - b.transmission) * kInvPi) * b.base_color * t_o * t_i;
                 pdf += p.d * cosine_hemisphere_pdf(wi.z);
             }
-            if (b.alpha > 0.f && p.r > 0.f) {
+            if (b.alpha > 0.f && (b.lobes & (MR::kSpecular | MR::kMetal))) {
                 float pr = 0.f;
                 const float g = ggx_reflect_f(wo, wi, b.alpha, &pr);
                 const vec3 h = glm::normalize(wo + wi);
                 f += fresnel_reflect(b, glm::dot(wo, h), s.eta) * g;
                 pdf += p.r * pr;
             }
-        } else if (wi.z < 0.f && b.alpha > 0.f && p.t > 0.f) {
+        } else if (wi.z < 0.f && b.alpha > 0.f && b.has(MR::kTransmission)) {
             const vec3 tint = ((1.f - b.metallic) * b.transmission) * b.base_color;
             if (b.thin_walled) {
                 // The reflection lobe mirrored through the surface: straight through, blurred by roughness.
@@ -174,10 +174,17 @@ void prepare_metallic_roughness(MetallicRoughness& m) {
     if (m.metallic < 1.f && m.transmission > 0.f) lobes |= MR::kTransmission;
     m.lobes = lobes;
     m.delta_only = m.alpha == 0.f && !m.has(MR::kDiffuse);
+    m.lambert_only = m.lobes == MR::kDiffuse && m.metallic == 0.f && m.transmission == 0.f;
     m.sigma = vec3(0.f);
     if (m.solid() && std::isfinite(m.attenuation_distance))
         for (int c = 0; c < 3; ++c)
             m.sigma[c] = -std::log(glm::max(m.attenuation_color[c], 1e-30f)) / m.attenuation_distance;
+}
+
+void apply_metallic_roughness_texel(MetallicRoughness& m, float metallic, float roughness) {
+    m.metallic *= unit_or(metallic, 1.f);
+    m.roughness *= unit_or(roughness, 1.f);
+    if (m.alpha > 0.f) m.alpha = glm::max(m.roughness * m.roughness, kMinAlpha);
 }
 
 MetallicRoughness make_metallic_roughness(MetallicRoughness m) {
@@ -187,15 +194,20 @@ MetallicRoughness make_metallic_roughness(MetallicRoughness m) {
 
 namespace detail {
 
-vec3 eval_mr(const MetallicRoughness& b, vec3 wo, vec3 wi) { return eval_side(b, side_of(b, wo, wi), nullptr); }
+vec3 eval_mr(const MetallicRoughness& b, vec3 wo, vec3 wi) {
+    if (b.lambert_only) return eval(Lambertian{b.base_color}, wo, wi);
+    return eval_side(b, side_of(b, wo, wi), nullptr);
+}
 
 float pdf_mr(const MetallicRoughness& b, vec3 wo, vec3 wi) {
+    if (b.lambert_only) return pdf(Lambertian{b.base_color}, wo, wi);
     float pdf = 0.f;
     eval_side(b, side_of(b, wo, wi), &pdf);
     return pdf;
 }
 
 std::optional<BsdfSample> sample_mr(const MetallicRoughness& b, vec3 wo_in, float u_lobe, vec2 u) {
+    if (b.lambert_only) return sample(Lambertian{b.base_color}, wo_in, u_lobe, u);
     if (!(std::fabs(wo_in.z) >= FLT_MIN)) return std::nullopt;  // zero or denormal: a delta f = 1/|cos| overflows
     const Side s = side_of(b, wo_in, vec3(0.f));
     const vec3 wo = s.wo;

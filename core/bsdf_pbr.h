@@ -49,6 +49,9 @@ struct MetallicRoughness {
     vec3 spec_f0{0.04f};      // min(f0 * specular_color, 1), before the specular factor
     uint8_t lobes = kMetal;   // the lobes present
     bool delta_only = false;  // every present lobe is a delta lobe (is_delta())
+    // Only the Lambert base, with weight 1 (metallic 0, transmission 0, no dielectric Fresnel: specular 0 or IOR 1):
+    // exactly Lambertian{base_color}, evaluated and sampled by the same code, so it renders the same image.
+    bool lambert_only = false;
     // Beer-Lambert absorption coefficient inside a solid one, -ln(attenuation_color) / attenuation_distance per unit
     // length (0: none); the integrator applies exp(-sigma t) to path segments inside (core/integrator.cpp).
     vec3 sigma{0.f};
@@ -61,6 +64,11 @@ struct MetallicRoughness {
 // NaN attenuation distance to infinity) and computes the derived fields.
 void prepare_metallic_roughness(MetallicRoughness& m);
 MetallicRoughness make_metallic_roughness(MetallicRoughness m);  // prepared copy
+// glTF's metallicRoughnessTexture at a hit: multiplies metallic by the texel's B and roughness by its G (linear, in
+// [0, 1]) on a prepared material, keeping its lobes (a lobe whose factor the texel zeroes weighs 0) and its
+// delta-ness (a texel roughness of 0 on a rough material gives kMinAlpha), so that the untextured material's
+// is_delta() and oriented_eta() stay valid for the textured copy.
+void apply_metallic_roughness_texel(MetallicRoughness& m, float metallic, float roughness);
 
 namespace detail {
 vec3 eval_mr(const MetallicRoughness& b, vec3 wo, vec3 wi);

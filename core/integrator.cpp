@@ -182,8 +182,8 @@ bool PathWalker::step_with() {
                 const bool do_nee = nee && !is_delta(*bsdf);
                 const float u_light_select = do_nee && m_select_draw ? sampler.get1d_at(dim) : 0.f;
                 const vec2 u_light = do_nee ? (early ? m_early_u : sampler.get2d_at(dim + 1)) : vec2(0.f);
-                const bool one_lobe =
-                    std::holds_alternative<Lambertian>(*bsdf) || std::holds_alternative<Mirror>(*bsdf);
+                const bool one_lobe = std::holds_alternative<Lambertian>(*bsdf) ||
+                                      std::holds_alternative<Mirror>(*bsdf) || lambert_only(*bsdf);
                 const float u_lobe = one_lobe ? 0.5f : sampler.get1d_at(dim + 2);
                 const vec2 u_bsdf = is_delta(*bsdf) ? vec2(0.5f) : sampler.get2d_at(dim + 3);  // delta lobes ignore it
 

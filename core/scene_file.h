@@ -12,8 +12,12 @@
 //                                                 // edges within 1e9, non-zero area
 //     "bookmarks": [ { "name": "door", "eye": [..], "target": [..], "up": [..], "fov": 40, ... } ],
 //     "two_sided_emitters": false,
-//     "materials": { "name": { "type": "diffuse|glossy|mirror|glass", "base_color": [r,g,b],
-//                              "specular": [r,g,b], "roughness": a, "ior": n, "emission": [r,g,b] } } }
+//     "materials": { "name": { "type": "diffuse|glossy|mirror|glass|metallic-roughness", "base_color": [r,g,b],
+//                              "specular": [r,g,b], "roughness": a, "ior": n, "emission": [r,g,b],
+//                              // metallic-roughness (glTF; "specular" is its specular colour, "roughness" the
+//                              // perceptual roughness, alpha = roughness^2):
+//                              "metallic": m, "transmission": t, "specular_factor": s, "thin_walled": true,
+//                              "attenuation_color": [r,g,b], "attenuation_distance": d } } }
 //   (through core/material_params.h: a glossy material keeps diffuse + specular <= 1 per channel; a mirror
 //   reflects its "specular" colour when given, else its base colour)
 // An OBJ alone is framed automatically from its bounds; a glTF file starts at its first perspective camera (framed

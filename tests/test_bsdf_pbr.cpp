@@ -284,6 +284,35 @@ TEST(MetallicRoughnessBsdf, OnlyTheNonZeroLobesArePresent) {
     EXPECT_EQ(m.alpha, 0.25f);
 }
 
+// A metallicRoughnessTexture texel scales the factors and keeps the lobes: the textured material is still
+// consistent (sample() against eval() and pdf()), and a texel roughness 0 does not turn a rough material into delta.
+TEST(MetallicRoughnessBsdf, TexelScalesFactorsAndKeepsLobes) {
+    const MetallicRoughness base = mr(vec3(0.9f, 0.7f, 0.5f), 0.8f, 0.9f);
+    MetallicRoughness t = base;
+    apply_metallic_roughness_texel(t, 0.5f, 0.5f);
+    EXPECT_EQ(t.metallic, 0.4f);
+    EXPECT_EQ(t.roughness, 0.45f);
+    EXPECT_EQ(t.alpha, 0.45f * 0.45f);
+    EXPECT_EQ(t.lobes, base.lobes);
+    for (const float rough : {0.f, 1.f}) {
+        MetallicRoughness z = base;
+        apply_metallic_roughness_texel(z, 0.f, rough);
+        EXPECT_EQ(z.lobes, base.lobes);
+        EXPECT_FALSE(is_delta(z));
+        const Bsdf b = z;
+        Pcg32 g(1, 2);
+        for (int i = 0; i < 2000; ++i) {
+            const vec3 wo = square_to_uniform_sphere(vec2(g.next_float(), g.next_float()));
+            const auto s = sample(b, wo, g.next_float(), vec2(g.next_float(), g.next_float()));
+            if (!s) continue;
+            ASSERT_FALSE(s->is_delta);
+            const vec3 f = eval(b, wo, s->wi);
+            for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(s->f[ch], f[ch], 1e-5f * std::max(f[ch], 1e-6f));
+            ASSERT_NEAR(s->pdf, pdf(b, wo, s->wi), 1e-5f * s->pdf);
+        }
+    }
+}
+
 // A slab of thickness d (two facing quads, the front z = d/2 facing +z, the back z = -d/2 facing -z) of a solid,
 // smooth, IOR-1 transmissive material (no Fresnel, no refraction: the only lobe is the straight transmission) in a
 // white environment: a camera ray through it carries exactly exp(-sigma d) = attenuation_color^(d / distance).

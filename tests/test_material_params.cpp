@@ -136,3 +136,45 @@ TEST(MaterialParams, SceneFileOverridesKeepTheInvariants) {
     EXPECT_EQ(checked, 3);
 }
 }  // namespace pv
+
+// The metallic-roughness keys of a scene.json override (issue 27): parsed, clamped by make_bsdf(), and a bad value
+// is one error naming the file and the key.
+namespace pv {
+TEST(MaterialParams, SceneFileMetallicRoughnessOverride) {
+    const std::string dir = std::filesystem::path(builtin_scene_path()).parent_path().string();
+    const std::string json = R"({"obj": "cornell-box.obj", "materials": {
+        "white": {"type": "metallic-roughness", "base_color": [0.9, 0.8, 0.7], "metallic": 0.25, "roughness": 0.5,
+                  "ior": 1.4, "transmission": 0.75, "specular_factor": 0.5, "specular": [1.0, 0.5, 0.25],
+                  "thin_walled": false, "attenuation_color": [0.5, 0.6, 0.7], "attenuation_distance": 3}}})";
+    const Scene scene = load_scene_json_text(json, dir + "/overrides.json");
+    int checked = 0;
+    for (const Material& m : scene.materials) {
+        if (m.name != "white") continue;
+        const auto& b = std::get<MetallicRoughness>(m.bsdf);
+        EXPECT_EQ(b.base_color, vec3(0.9f, 0.8f, 0.7f));
+        EXPECT_EQ(b.metallic, 0.25f);
+        EXPECT_EQ(b.roughness, 0.5f);
+        EXPECT_EQ(b.alpha, 0.25f);
+        EXPECT_EQ(b.ior, 1.4f);
+        EXPECT_EQ(b.transmission, 0.75f);
+        EXPECT_EQ(b.specular, 0.5f);
+        EXPECT_EQ(b.specular_color, vec3(1.f, 0.5f, 0.25f));
+        EXPECT_FALSE(b.thin_walled);
+        EXPECT_EQ(b.attenuation_color, vec3(0.5f, 0.6f, 0.7f));
+        EXPECT_EQ(b.attenuation_distance, 3.f);
+        EXPECT_EQ(oriented_eta(m.bsdf), 1.4f);
+        ++checked;
+    }
+    EXPECT_EQ(checked, 1);
+    const std::string bad = R"({"obj": "cornell-box.obj", "materials": {"white": {"metallic": 1.5}}})";
+    try {
+        load_scene_json_text(bad, dir + "/bad.json");
+        ADD_FAILURE() << "accepted metallic 1.5";
+    } catch (const std::exception& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("bad.json"), std::string::npos) << what;
+        EXPECT_NE(what.find("metallic"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+}
+}  // namespace pv
