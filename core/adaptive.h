@@ -9,21 +9,21 @@
 // estimate that happens to be low: stopping on the samples themselves biases the image, docs/convergence.md).
 //
 // Allocation (AdaptiveSettings::allocate, the command line's default) is unbiased at any sample count (issue 29):
-// the allocation never depends on the samples it steers. Passes 1..kPilotPasses and every kPilotEvery-th pass after
-// are pilot passes: every pixel takes a sample, rendered with its own seed (pilot_seed: a scramble independent of
-// the main samples'), into a separate pilot film. The weights come from the pilot film alone: the mean relMSE at a
-// fixed budget is lowest with each pixel's count n_i proportional to r_i / sqrt(c_i) (r_i its relative standard
-// deviation per sample, c_i its cost: minimise sum r_i^2 / n_i subject to sum c_i n_i = N); r_i^2 is the pilot's
-// half-buffer estimate times its count, c_i one plus the pilot samples' rays per sample, both averaged over the
-// (2r+1)^2 window; w_i = s_i / s_ref with s_i = r_i / sqrt(c_i) and s_ref the kAllocationQuantile quantile of s
-// over the image (a robust maximum), clamped to [kAllocationFloor, 1], recomputed after every pilot pass. In main
-// pass q a pixel takes a main sample while its main count is below q w_i. Given the pilot, a pixel's main count is
-// fixed and its main samples are independent of the pilot, so their mean is unbiased; the pilot's mean is unbiased
-// too. The image is a_i x pilot mean + (1 - a_i) x main mean with a_i = (pilot passes) / (all passes): a fixed
-// weight, independent of every sample value (combine()), so the image's expectation is that of --adaptive off.
-// A pixel's main samples take the indices 0, 1, 2... of its own count, so they are the ones a uniform render of
-// that many passes gives it (Sobol's stratification holds per pixel); pilot samples likewise under the pilot seed.
-// Everything depends only on the films and the counts, so images stay identical for any thread count.
+// the allocation never depends on the samples it steers. Passes 1..kPilotPasses and every kPilotEvery-th pass
+// after are pilot passes: every pixel takes a sample, rendered with its own seed
+// (pilot_seed: a scramble independent of the main samples'), into a separate pilot film. The weights come from the
+// pilot film alone: the mean relMSE at a fixed budget is lowest with each pixel's count n_i proportional to r_i /
+// sqrt(c_i) (r_i its relative standard deviation per sample, c_i its cost: minimise sum r_i^2 / n_i subject to sum c_i
+// n_i = N); r_i^2 is the pilot's half-buffer estimate times its count, c_i one plus the pilot samples' rays per sample,
+// both averaged over the (2r+1)^2 window; w_i = s_i / s_ref with s_i = r_i / sqrt(c_i) and s_ref the
+// kAllocationQuantile quantile of s over the image (a robust maximum), clamped to [kAllocationFloor, 1], recomputed
+// after every pilot pass. In main pass q a pixel takes a main sample while its main count is below q w_i. Given the
+// pilot, a pixel's main count is fixed and its main samples are independent of the pilot, so their mean is unbiased;
+// the pilot's mean is unbiased too. The image is a_i x pilot mean + (1 - a_i) x main mean with a_i = (pilot passes) /
+// (all passes): a fixed weight, independent of every sample value (combine()), so the image's expectation is that of
+// --adaptive off. A pixel's main samples take the indices 0, 1, 2... of its own count, so they are the ones a uniform
+// render of that many passes gives it (Sobol's stratification holds per pixel); pilot samples likewise under the pilot
+// seed. Everything depends only on the films and the counts, so images stay identical for any thread count.
 #pragma once
 
 #include <cstdint>

@@ -109,12 +109,12 @@ BiasResult adaptive_bias(const std::shared_ptr<const Scene>& scene, int seeds, i
 }
 
 TEST(AdaptiveBiasSlow, MirrorAndGlassBoxMeanAgreesWithAdaptiveOff) {
-    const BiasResult b = adaptive_bias(mirror_and_glass_box(), 16, 48, 48);
+    const BiasResult b = adaptive_bias(mirror_and_glass_box(), 32, 48, 48);
     for (int k = 0; k < 3; ++k) EXPECT_LT(std::fabs(b.z[k]), 3.0) << "count " << k;
 }
 
 TEST(AdaptiveBiasSlow, SmallEmitterThroughGlassMeanAgreesWithAdaptiveOff) {
-    const BiasResult b = adaptive_bias(small_emitter_through_glass(), 16, 48, 48);
+    const BiasResult b = adaptive_bias(small_emitter_through_glass(), 32, 48, 48);
     for (int k = 0; k < 3; ++k) EXPECT_LT(std::fabs(b.z[k]), 3.0) << "count " << k;
 }
 
