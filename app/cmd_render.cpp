@@ -159,9 +159,17 @@ void run(RenderOptions& o) {
                         " more samples (sample indices end at 2^32)");
     }
     // A partial render samples every pixel at each of its indices, so that its parts merge into what one `render
-    // --adaptive off` gives; --adaptive on is honoured when asked for (each pixel then takes indices from the start of
-    // the part's range: the parts still merge into a valid image, not a bit-identical one).
-    if (samples && !o.cmd->get_option("--adaptive")->count()) o.common.adaptive.allocate = false;
+    // --adaptive off` gives, bit for bit. Adaptive sampling cannot be split so: each pixel's allocation comes from a
+    // pilot over the whole render (core/adaptive.h), so --adaptive on is refused with a partial render.
+    if (samples && o.common.adaptive.allocate) {
+        if (o.cmd->get_option("--adaptive")->count())
+            throw Error(std::string(!o.shard.empty()    ? "--shard"
+                                    : !o.resume.empty() ? "--resume"
+                                                        : "--samples") +
+                        ": a partial render samples every pixel at every index (so that parts merge bit for bit); "
+                        "--adaptive on cannot be split so: leave it out or give --adaptive off");
+        o.common.adaptive.allocate = false;
+    }
     const std::string path = scene_path(o.common);
     for (const std::string& out : o.outs) {
         const std::string ext = std::filesystem::path(out).extension().string();

@@ -14,16 +14,11 @@ namespace pv::app {
 
 // Options shared by every subcommand that renders: scene, estimator and camera overrides.
 struct CommonOptions {
-    static AdaptiveSettings allocating() {
-        AdaptiveSettings a;
-        a.allocate = true;
-        return a;
-    }
     std::string scene;  // empty: the built-in Cornell box
     int width = 512, height = 512;
     int threads = 0;  // 0: all cores
     RenderSettings settings;
-    AdaptiveSettings adaptive = allocating();  // --adaptive (on), --noise-threshold, --min-spp
+    AdaptiveSettings adaptive;  // --adaptive (off), --noise-threshold, --min-spp
     std::vector<float> eye, target, up;
     std::optional<float> fov, aperture, focus_distance;
     std::string environment;  // "r,g,b", a number, a map file, or "sky"

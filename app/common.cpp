@@ -163,9 +163,9 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
                              {"sobol", int(SamplerKind::Sobol)}}))
         ->default_str(sampler_name(o.settings.sampler));
     cmd.add_option("--adaptive", o.adaptive.allocate,
-                   "Adaptive sampling: after --min-spp, each region takes samples in proportion to its relative error "
-                   "per sample (the least mean relMSE for the time; --spp counts the passes, which the noisiest "
-                   "pixels all take): on|off")
+                   "Adaptive sampling: each region takes samples in proportion to its relative error per sample, "
+                   "estimated from pilot passes that never steer their own samples (unbiased; --spp counts the "
+                   "passes, which the noisiest pixels all take; not with partial renders): on|off")
         ->transform(kOnOff)
         ->default_str(on_off(o.adaptive.allocate));
     cmd.add_option("--noise-threshold", o.adaptive.noise_threshold,

@@ -94,6 +94,7 @@ public:
 
     // The per-pixel accumulators, row-major from the top-left (for writing partial renders, core/partial.h).
     const std::vector<FilmPixel>& pixels() const { return m_pixels; }
+    std::vector<FilmPixel>& mutable_pixels() { return m_pixels; }  // e.g. AdaptiveMask::combine; same size
     // A film holding these accumulators (width * height of them), e.g. read back from a partial render.
     static Film from_pixels(int width, int height, std::vector<FilmPixel> pixels);
     // Adds another film's sums, sums of squares, half-buffer sums and counts, pixel by pixel: the film of the

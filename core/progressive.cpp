@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "core/denoise_atrous.h"
 #include "core/error.h"
@@ -84,6 +85,11 @@ void ProgressiveRenderer::request_partial() {
         m_partial_requested = true;
     }
     m_wake.notify_one();
+}
+
+std::string ProgressiveRenderer::take_partial_refusal() {
+    std::lock_guard<std::mutex> lock(m_snapshot_mutex);
+    return std::exchange(m_partial_refusal, std::string());
 }
 
 std::optional<PartialRender> ProgressiveRenderer::take_partial() {
@@ -166,7 +172,9 @@ void ProgressiveRenderer::drive() {
         // Between passes the film holds whole passes only; a new accumulation gets its first pass first.
         if (make_partial && m_renderer.stats().spp > 0) {
             const uint32_t spp = m_renderer.stats().spp;
-            PartialRender part = partial_from_renderer(m_renderer, {{m_renderer.next_sample() - spp, spp}});
+            const bool refused = m_renderer.adaptive_settings().allocate;
+            std::optional<PartialRender> part;
+            if (!refused) part = partial_from_renderer(m_renderer, {{m_renderer.next_sample() - spp, spp}});
             std::function<void()> on_publish;
             {
                 std::lock_guard<std::mutex> lock(m_mutex);
@@ -176,6 +184,10 @@ void ProgressiveRenderer::drive() {
             {
                 std::lock_guard<std::mutex> lock(m_snapshot_mutex);
                 m_partial = std::move(part);
+                if (refused)
+                    m_partial_refusal =
+                        "no resumable snapshot with adaptive sampling on (its samples are not per index): "
+                        "turn it off to make one";
             }
             if (on_publish) on_publish();
         }

@@ -96,6 +96,9 @@ public:
     // made, take_partial() returns it (once) and the on_publish callback runs.
     void request_partial();
     std::optional<PartialRender> take_partial();
+    // Why the last requested partial render was refused (once; "" if it was not): adaptive sampling's films are
+    // not sums over sample indices, so they cannot be resumed or merged (core/adaptive.h).
+    std::string take_partial_refusal();
     // Called on the driver thread after each publication (the viewer wakes its event loop with it).
     // Set before the first restart().
     void set_on_publish(std::function<void()> callback);
@@ -153,6 +156,7 @@ private:
     Snapshot m_front;
     Snapshot m_back;
     std::optional<PartialRender> m_partial;  // made on request_partial(), until taken
+    std::string m_partial_refusal;           // or why it was not made, until taken
 
     std::thread m_thread;  // last: started after everything above exists
 };

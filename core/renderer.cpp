@@ -59,6 +59,10 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     m_film.reset(width, height);
     m_adaptive = m_adaptive_next;
     m_mask.reset(width, height);
+    // Allocation: the pilot and main films, which m_film combines (core/adaptive.h); nothing without it.
+    m_pilot.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);
+    m_main.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);
+    m_main_passes = 0;
     const RenderStats previous = m_stats;
     m_stats = RenderStats{};
     m_next_sample = 0;
@@ -99,6 +103,8 @@ void Renderer::load_film(Film film) {
         throw Error("a film of " + std::to_string(film.width()) + "x" + std::to_string(film.height()) +
                     " does not fit a render of " + std::to_string(m_film.width()) + "x" +
                     std::to_string(m_film.height()));
+    if (m_adaptive.allocate)
+        throw Error("a film cannot be loaded into a render with adaptive sampling (its samples are not per index)");
     m_film = std::move(film);
 }
 
@@ -125,9 +131,13 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const TraceableScene& ts = *m_traceable;
     std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
     std::atomic<bool> cancelled{false};
-    // Allocation: pixels take the samples of their own count (core/adaptive.h); otherwise the pass's index.
+    // Allocation: pixels take the samples of their own count (core/adaptive.h), in a pilot pass under the pilot seed
+    // into the pilot film, otherwise into the main film; without it, the pass's index into m_film.
     const bool own_index = m_adaptive.allocate;
-    if (own_index) m_mask.prepare_pass(m_stats.spp + 1, m_adaptive);
+    const bool pilot = own_index && is_pilot_pass(m_stats.spp + 1);
+    if (own_index) m_mask.prepare_pass(pilot, m_main_passes + 1);
+    Film& film = !own_index ? m_film : pilot ? m_pilot : m_main;
+    const uint32_t seed = pilot ? pilot_seed(m_settings.seed) : m_settings.seed;
     const uint8_t* active = m_adaptive.masks() ? m_mask.mask().data() : nullptr;  // nothing: every pixel
     const int in_flight = m_paths_in_flight;
 
@@ -146,7 +156,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                 bool busy = false;
             };
             Slot slots[kMaxPathsInFlight];
-            for (int i = 0; i < in_flight; ++i) slots[i].sampler = Sampler(m_settings.seed, m_settings.sampler);
+            for (int i = 0; i < in_flight; ++i) slots[i].sampler = Sampler(seed, m_settings.sampler);
             for (int tile = r.begin(); tile != r.end(); ++tile) {
                 if (cancel && cancel->load(std::memory_order_relaxed)) {
                     cancelled.store(true, std::memory_order_relaxed);
@@ -165,10 +175,12 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                         const int x = x0 + next % tile_w, y = y0 + next / tile_w;
                         ++next;
                         if (active && !active[size_t(y) * size_t(w) + size_t(x)]) continue;
-                        m_film.prefetch(x, y);
+                        film.prefetch(x, y);
                         s.x = x;
                         s.y = y;
-                        s.sample = own_index ? m_first_sample + m_mask.next_index(x, y)++ : index;
+                        s.sample = !own_index ? index
+                                   : pilot    ? m_first_sample + m_mask.pilot_index(x, y)++
+                                              : m_first_sample + m_mask.next_index(x, y)++;
                         s.walker.start(ts, m_settings, camera_ray(m_camera, s.sampler, x, y, s.sample), s.sampler);
                         return s.busy = true;
                     }
@@ -182,8 +194,8 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                         if (!s.busy || s.walker.step()) continue;
                         const PathCounters& c = s.walker.counters();
                         tt.counters += c;
-                        if (own_index) m_mask.add_rays(s.x, s.y, c.rays + c.shadow_rays);
-                        if (!m_film.add(s.x, s.y, s.sample, s.walker.radiance())) tt.dropped++;
+                        if (pilot) m_mask.add_rays(s.x, s.y, c.rays + c.shadow_rays);
+                        if (!film.add(s.x, s.y, s.sample, s.walker.radiance())) tt.dropped++;
                         if (!start_next(s)) --busy;
                     }
             }
@@ -201,6 +213,13 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     }
     m_stats.spp++;
     m_next_sample++;
+    if (own_index) {
+        if (pilot)
+            m_mask.update_weights(m_pilot, m_adaptive);
+        else
+            ++m_main_passes;
+        m_mask.combine(m_pilot, m_main, m_film);
+    }
     m_mask.update(m_film, m_stats.spp, m_adaptive);
     m_stats.last_pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     m_stats.seconds += m_stats.last_pass_seconds;

@@ -75,6 +75,9 @@ public:
     bool render_pass(const std::atomic<bool>* cancel = nullptr);
 
     const Film& film() const { return m_film; }
+    // With allocation, the pilot and main samples' own films (empty without it).
+    const Film& pilot_film() const { return m_pilot; }
+    const Film& main_film() const { return m_main; }
     const RenderStats& stats() const { return m_stats; }
     const RenderSettings& settings() const { return m_settings; }
     // The settings with sky_guide on only where the guide applies (sky_guide_applies) and, for auto, once the first
@@ -101,7 +104,9 @@ private:
     std::unique_ptr<TraceableScene> m_traceable;
     RenderSettings m_settings;
     Camera m_camera;
-    Film m_film;
+    Film m_film;           // the image's accumulation (with allocation: m_pilot and m_main combined)
+    Film m_pilot, m_main;  // allocation: the pilot and main samples (core/adaptive.h); 0x0 without it
+    uint32_t m_main_passes = 0;
     AdaptiveSettings m_adaptive, m_adaptive_next;
     AdaptiveMask m_mask;
     RenderStats m_stats;

@@ -121,8 +121,16 @@ AdaptiveSettings allocating(uint32_t min_spp) {
     return a;
 }
 
-// The noiseless sky settles at the floor rate, exactly: after P passes a pixel of weight w has ceil(P w) samples.
-// The noisy quad keeps the full rate, and both stay unbiased (the sky exactly 1, the quad 0.7 within its noise).
+// Allocation's passes: pilot passes 1..8 and every 8th after (each pixel a sample), main passes between.
+uint32_t pilot_passes(uint32_t passes) {
+    uint32_t n = 0;
+    for (uint32_t p = 1; p <= passes; ++p) n += is_pilot_pass(p) ? 1u : 0u;
+    return n;
+}
+
+// The noiseless sky settles at the floor rate, exactly: after Q main passes a pixel of weight w has ceil(Q w) main
+// samples (plus one per pilot pass). The noisy quad keeps the full rate, and both stay unbiased (the sky exactly 1,
+// the quad 0.7 within its noise).
 TEST(AdaptiveAllocation, NoiselessPixelsTakeTheFloorRateNoisyOnesEveryPass) {
     HalfScene hs;
     Renderer r(hs.scene, 2);
@@ -132,14 +140,18 @@ TEST(AdaptiveAllocation, NoiselessPixelsTakeTheFloorRateNoisyOnesEveryPass) {
     const int w = 32, h = 16, passes = 64;
     r.restart(hs.camera, s, w, h);
     for (int i = 0; i < passes; ++i) r.render_pass();
-    const uint32_t floor_count = uint32_t(std::ceil(double(passes) * double(kAllocationFloor)));
+    const uint32_t pilots = pilot_passes(passes), mains = passes - pilots;
+    EXPECT_EQ(pilots, 15u);  // 1..8, 16, 24, ..., 64
+    const uint32_t floor_count = uint32_t(std::ceil(double(mains) * double(kAllocationFloor)));
     uint32_t quad_min = ~0u, image_max = 0;
     double quad_sum = 0.0, quad_var = 0.0;
     int quad_pixels = 0;
     const test::PixelStats st = test::PixelStats::from_film(r.film());
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            const FilmPixel& px = r.film().pixel(x, y);
+            const FilmPixel& px = r.main_film().pixel(x, y);
+            EXPECT_EQ(r.pilot_film().pixel(x, y).n, pilots);
+            EXPECT_EQ(r.film().pixel(x, y).n, px.n + pilots);
             image_max = std::max(image_max, px.n);
             if (x >= w / 2 + 3) {  // the sky beyond the 5x5 filter's reach
                 EXPECT_EQ(px.n, floor_count) << x << "," << y;
@@ -154,42 +166,80 @@ TEST(AdaptiveAllocation, NoiselessPixelsTakeTheFloorRateNoisyOnesEveryPass) {
                 ++quad_pixels;
             }
         }
-    // The noisiest pixels (the quad's edge) at nearly the full rate (a pixel whose weight rises at a checkpoint does
-    // not catch up on the passes it skipped); the whole quad well above the sky (its weights are estimates of one
-    // relative error, each from 25 pixels' half buffers).
-    EXPECT_GE(image_max, uint32_t(passes) - 8);
-    EXPECT_GT(quad_min, 2 * floor_count);
+    // The noisiest pixels (the quad's edge) at nearly the full rate (a pixel whose weight rises after a pilot pass
+    // does not catch up on the passes it skipped); the whole quad well above the sky (its weights are estimates of
+    // one relative error, each from 25 pixels' pilot half buffers).
+    EXPECT_GE(image_max, mains - 8);
+    EXPECT_GT(2 * quad_min, 3 * floor_count);  // at least 1.5x the floor (its weights are ~0.5 of the edge's)
     const double mean = quad_sum / quad_pixels, se = std::sqrt(quad_var) / quad_pixels;
     EXPECT_LT(std::fabs(mean - 0.7), 4.0 * se + 1e-6) << mean << " +- " << se;
-    EXPECT_LT(r.film().mean_count(), 0.75 * passes);  // the sky half at a quarter
+    EXPECT_LT(r.main_film().mean_count(), 0.75 * mains);  // the sky half at a quarter
 }
 
-// A pixel's samples are the indices 0 .. n-1 of its own count: its sums are those a uniform render of n passes
-// gives it, bit for bit (so Sobol's per-pixel stratification holds under any allocation).
+// A pixel's main samples are the indices 0 .. n-1 of its own count: its main sums are those a uniform render of n
+// passes gives it, bit for bit (so Sobol's per-pixel stratification holds under any allocation); the pilot film is
+// a uniform render of the pilot passes under the pilot seed.
 TEST(AdaptiveAllocation, EachPixelTakesTheFirstIndicesOfItsOwnCount) {
     const auto scene = test::cornell_box();
     RenderSettings s;
     s.seed = 5;
-    const int w = 20, h = 16;
+    const int w = 20, h = 16, passes = 40;
     Renderer r(scene, 2);
     r.set_adaptive(allocating(4));
     r.restart(scene->camera, s, w, h);
-    for (int i = 0; i < 40; ++i) r.render_pass();
+    for (int i = 0; i < passes; ++i) r.render_pass();
     std::map<uint32_t, Film> uniform;
     for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) uniform.emplace(r.film().pixel(x, y).n, Film());
+        for (int x = 0; x < w; ++x) uniform.emplace(r.main_film().pixel(x, y).n, Film());
     ASSERT_GE(uniform.size(), 3u) << "the allocation gave every pixel the same count";
     for (auto& [n, film] : uniform) film = test::render_with_renderer(scene, scene->camera, s, w, h, int(n));
+    RenderSettings ps = s;
+    ps.seed = pilot_seed(s.seed);
+    const Film pilot = test::render_with_renderer(scene, scene->camera, ps, w, h, int(pilot_passes(passes)));
+    auto expect_same = [](const FilmPixel& p, const FilmPixel& q, int x, int y) {
+        ASSERT_EQ(p.n, q.n);
+        ASSERT_EQ(p.n_even, q.n_even) << x << "," << y;
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_EQ(std::memcmp(&p.sum[c], &q.sum[c], sizeof(double)), 0) << x << "," << y << " n " << p.n;
+            ASSERT_EQ(std::memcmp(&p.sum_even[c], &q.sum_even[c], sizeof(double)), 0) << x << "," << y;
+        }
+    };
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            const FilmPixel& p = r.film().pixel(x, y);
-            const FilmPixel& q = uniform.at(p.n).pixel(x, y);
-            ASSERT_EQ(p.n, q.n);
-            ASSERT_EQ(p.n_even, q.n_even) << x << "," << y;
+            const FilmPixel& p = r.main_film().pixel(x, y);
+            expect_same(p, uniform.at(p.n).pixel(x, y), x, y);
+            expect_same(r.pilot_film().pixel(x, y), pilot.pixel(x, y), x, y);
+        }
+}
+
+// The image is the fixed-weight combination of the pilot's and the main film's means, pixel by pixel, and its
+// half-buffer error estimate is that of the same combination of the films' halves (independent estimates).
+TEST(AdaptiveAllocation, ImageCombinesPilotAndMainWithFixedWeights) {
+    const auto scene = test::cornell_box();
+    RenderSettings s;
+    const int w = 16, h = 12, passes = 24;
+    Renderer r(scene, 2);
+    r.set_adaptive(allocating(16));
+    r.restart(scene->camera, s, w, h);
+    for (int i = 0; i < passes; ++i) r.render_pass();
+    const double a = double(pilot_passes(passes)) / passes, b = 1.0 - a;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const FilmPixel &p = r.pilot_film().pixel(x, y), &m = r.main_film().pixel(x, y), &q = r.film().pixel(x, y);
+            ASSERT_GT(m.n, 1u);
+            const uint32_t po = p.n - p.n_even, mo = m.n - m.n_even;
+            ASSERT_TRUE(po > 0 && mo > 0 && p.n_even > 0 && m.n_even > 0);
+            double expected_err = 0.0;
             for (int c = 0; c < 3; ++c) {
-                ASSERT_EQ(std::memcmp(&p.sum[c], &q.sum[c], sizeof(double)), 0) << x << "," << y << " n " << p.n;
-                ASSERT_EQ(std::memcmp(&p.sum_even[c], &q.sum_even[c], sizeof(double)), 0) << x << "," << y;
+                const double mean = a * p.sum[c] / p.n + b * m.sum[c] / m.n;
+                EXPECT_NEAR(q.sum[c] / q.n, mean, 1e-12 * (1.0 + mean));
+                const double ha = a * p.sum_even[c] / p.n_even + b * m.sum_even[c] / m.n_even;
+                const double hb = a * (p.sum[c] - p.sum_even[c]) / po + b * (m.sum[c] - m.sum_even[c]) / mo;
+                expected_err += 0.25 * (ha - hb) * (ha - hb) / (mean * mean + 0.01) / 3.0;
             }
+            const std::optional<double> e = pixel_rel_mse(q);
+            ASSERT_TRUE(e.has_value());
+            EXPECT_NEAR(*e, expected_err, 1e-9 * (1.0 + expected_err)) << x << "," << y;
         }
 }
 

@@ -38,6 +38,23 @@ test::RunResult pathview(const std::string& args) { return test::run_command(PAT
 
 void expect_ok(const test::RunResult& r) { EXPECT_EQ(r.exit_code, 0) << r.err; }
 
+// Adaptive sampling's allocation comes from a pilot over the whole render, so it cannot be split into parts that
+// merge bit for bit: --adaptive on with a partial render is refused with one line naming the flag.
+TEST(ShardCli, AdaptiveOnWithAPartialRenderIsRefused) {
+    const CliDir d;
+    for (const std::string& part : {std::string(" --samples 0:16"), std::string(" --spp 16 --shard 0/2")}) {
+        const test::RunResult r = pathview("render --adaptive on" + part + kSize + " -o " + d / "p.exr");
+        EXPECT_NE(r.exit_code, 0) << part;
+        EXPECT_NE(r.err.find("--adaptive on cannot be split"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(d.file("p.exr")));
+    }
+    expect_ok(pathview("render --adaptive off --samples 0:4" + kSize + " -o " + d / "p.exr"));
+    const test::RunResult r =
+        pathview("render --adaptive on --resume " + d / "p.exr" + " --spp 4 -q -o " + d / "q.exr");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("--resume"), std::string::npos) << r.err;
+}
+
 TEST(ShardCli, MergedShardsAndResumedPartEqualOneRender) {
     const CliDir d;
     // Every pixel at every index, as the parts (adaptive sampling would start only at 16 spp anyway).

@@ -142,10 +142,11 @@ void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& ac
     log_widget("adaptive");
     if (ImGui::IsItemHovered())
         ImGui::SetTooltip(
-            "After %u spp, each region takes samples in proportion to its relative error per sample over the root of\n"
-            "its cost in rays: the least mean relMSE for the time. 'spp' counts passes, which the noisiest pixels\n"
-            "all take; the sample-count view shows where they went.",
-            state.adaptive.min_spp);
+            "Each region takes samples in proportion to its relative error per sample over the root of its cost in\n"
+            "rays, both estimated from %u pilot passes (and a few later ones) that never steer their own samples:\n"
+            "unbiased. 'spp' counts passes, which the noisiest pixels all take; the sample-count view shows where\n"
+            "they went. Off by default: it pays only where few pixels carry the noise (docs/convergence.md).",
+            kPilotPasses);
     if (state.adaptive.allocate && s.spp > 0 && s.width > 0 && s.height > 0) {
         ImGui::SameLine();
         ImGui::TextDisabled("mean %.1f spp", double(s.paths) / (double(s.width) * s.height));

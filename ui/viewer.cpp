@@ -173,6 +173,11 @@ bool Viewer::wait_for_work() {
         work = true;
     }
     if (m_snapshots.save_partial(m_renderer->take_partial(), m_state)) work = true;
+    if (std::string refusal = m_renderer->take_partial_refusal(); !refusal.empty()) {
+        m_state.snapshot_status = std::move(refusal);
+        m_state.snapshot_ok = false;
+        work = true;
+    }
     if (m_snapshots.poll(m_state)) work = true;
     return work;
 }
