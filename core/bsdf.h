@@ -130,6 +130,9 @@ struct Material {
     bool two_sided_emission = false;
     uint32_t base_color_texture = kNoIndex;  // index into Scene::textures (map_Kd), replaces the base colour
     uint32_t alpha_texture = kNoIndex;       // index into Scene::textures (map_d): stochastic cut-out
+    // glTF's metallicRoughnessTexture (linear: B metallic, G roughness), read at the same uv as the base colour; it
+    // scales a MetallicRoughness BSDF's factors (apply_metallic_roughness_texel). kNoIndex: the factors alone.
+    uint32_t metallic_roughness_texture = kNoIndex;
     // glTF's emissiveTexture (sRGB, decoded to linear): the emitted radiance at a point is emission x its texel
     // (emission already holds emissiveFactor x KHR_materials_emissive_strength). kNoIndex: uniform emission.
     uint32_t emissive_texture = kNoIndex;

@@ -1,6 +1,7 @@
 // core/gltf_materials.cpp: glTF materials (metallic-roughness, emission, alpha modes, KHR material extensions and
 // texture transforms) and cameras, converted into pathview's Material and CameraDesc (see gltf_loader.h).
 #include "core/gltf_internal.h"
+#include "core/image_io.h"
 #include "core/material_params.h"
 
 namespace pv::gltf_detail {
@@ -171,10 +172,35 @@ void Loader::convert_materials() {
             m.alpha_texture = uint32_t(s.textures.size() - 1);
         }
         m.bsdf = gltf_bsdf(g);
-        // Textures read by neither the BSDF nor the loader yet (occlusionTexture is not used on purpose: a path tracer
-        // computes occlusion).
-        if (pbr.metallicRoughnessTexture.index >= 0)
-            warn_once("mr texture", "metallicRoughnessTexture is not used yet; the metallic and roughness factors are");
+        // metallicRoughnessTexture (linear data: the decoder's sRGB decoding is undone in a copy of its own), read
+        // at the mesh's uvs, which carry the base colour's transform: used where its own transform is the same.
+        UvTransform muv;
+        const std::string mr_at = at + "/pbrMetallicRoughness/metallicRoughnessTexture";
+        const uint32_t mr_tex = texture_of(pbr.metallicRoughnessTexture, mr_at, muv);
+        if (mr_tex != kNoIndex && std::holds_alternative<MetallicRoughness>(m.bsdf)) {
+            if (!(muv == (base_tex != kNoIndex ? buv : UvTransform{}))) {
+                warn_once(mr_at, mr_at +
+                                     ": a texture transform or texCoord other than the base colour's is not "
+                                     "supported; the metallic and roughness factors are used");
+            } else {
+                const Texture& src = s.textures[mr_tex];
+                std::vector<vec4> texels = src.texels();
+                for (vec4& t : texels) t = vec4(linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z), t.w);
+                s.textures.emplace_back(src.width(), src.height(), std::move(texels));
+                m.metallic_roughness_texture = uint32_t(s.textures.size() - 1);
+                // The texel may lower metallic anywhere in [0, factor]: the material carries every lobe of that
+                // range (a metallic factor of 1 alone would have no diffuse or specular lobe).
+                auto& mr = std::get<MetallicRoughness>(m.bsdf);
+                if (mr.metallic > 0.f) {
+                    MetallicRoughness any = mr;
+                    any.metallic = 0.5f;
+                    prepare_metallic_roughness(any);
+                    mr.lobes = any.lobes;
+                    mr.delta_only = any.delta_only;
+                    mr.lambert_only = false;
+                }
+            }
+        }
         if (gm.normalTexture.index >= 0) warn_once("normal texture", "normalTexture is not used yet");
 
         // Emission: emissiveFactor x KHR_materials_emissive_strength (x emissiveTexture).

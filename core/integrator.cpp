@@ -130,11 +130,16 @@ bool PathWalker::step_with() {
                 // large scenes their load is a cache miss, which then overlaps other paths' work and Embree's
                 // traversal.
                 m_base_color = mat.base_color_texture != kNoIndex ? &scene.textures[mat.base_color_texture] : nullptr;
+                m_metal_rough = mat.metallic_roughness_texture != kNoIndex
+                                    ? &scene.textures[mat.metallic_roughness_texture]
+                                    : nullptr;
                 m_stage = Stage::Scatter;
-                if (m_base_color) {
-                    const vec2 uv = kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
-                    m_texels = m_base_color->prefetch(uv);
-                    return true;  // the texels are on their way
+                if (m_base_color || m_metal_rough) {
+                    m_uv = kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
+                    if (m_base_color) {
+                        m_texels = m_base_color->prefetch(m_uv);
+                        return true;  // the texels are on their way
+                    }
                 }
                 [[fallthrough]];
             }
@@ -146,9 +151,14 @@ bool PathWalker::step_with() {
                 const Bsdf* bsdf = &mat.bsdf;
                 std::optional<Bsdf> textured;
                 auto shade = [&]() -> const Bsdf& {
-                    if (base_color && !textured) {
+                    if ((base_color || m_metal_rough) && !textured) {
                         textured.emplace(mat.bsdf);
-                        set_base_color(*textured, vec3(base_color->lookup(m_texels)));
+                        if (base_color) set_base_color(*textured, vec3(base_color->lookup(m_texels)));
+                        if (m_metal_rough)
+                            if (auto* mr = std::get_if<MetallicRoughness>(&*textured)) {
+                                const vec4 t = m_metal_rough->lookup(m_uv);
+                                apply_metallic_roughness_texel(*mr, t.z, t.y);
+                            }
                         bsdf = &*textured;
                     }
                     return *bsdf;

@@ -132,6 +132,8 @@ private:
     const Material* m_mat = nullptr;
     bool m_front = false;
     const Texture* m_base_color = nullptr;
+    const Texture* m_metal_rough = nullptr;  // a glTF metallicRoughnessTexture, read at m_uv
+    vec2 m_uv{0.f};
     TexelFootprint m_texels;
 };
 

@@ -132,6 +132,7 @@ void hash_material(Hasher& h, const Material& m) {
     h.value(uint8_t(m.two_sided_emission));
     h.value(m.base_color_texture);
     h.value(m.alpha_texture);
+    if (m.metallic_roughness_texture != kNoIndex) h.value(m.metallic_roughness_texture);  // glTF only
     if (m.emissive_texture != kNoIndex || !m.emissive_uv.is_identity()) {  // glTF only: OBJ hashes as before
         h.value(m.emissive_texture);
         h.value(m.emissive_uv.col0);

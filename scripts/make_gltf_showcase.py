@@ -118,7 +118,7 @@ def main():
                                         "KHR_materials_volume": {"thicknessFactor": 0.6,
                                                                  "attenuationColor": [0.55, 0.85, 0.75],
                                                                  "attenuationDistance": 0.5}}},
-               sph_attr, sph_idx, [0.0, 0.3, 0.95], 0.3)
+               sph_attr, sph_idx, [0.75, 0.25, 1.05], 0.25)
     add_object("floor", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0.0,
                                                   "roughnessFactor": 0.6}},
                quad_attr, quad_idx, [0, 0, 0], 4.0)
@@ -129,8 +129,8 @@ def main():
                quad_attr, quad_idx, [0.0, 1.9, 0.2], 1.2)
     nodes[-1]["rotation"] = [1.0, 0.0, 0.0, 0.0]
     # The camera looks from +z, slightly above, toward the grid's centre (-z is a glTF camera's forward).
-    tilt = -0.32
-    nodes.append({"name": "front", "camera": 0, "translation": [0.0, 1.05, 3.1],
+    tilt = -0.42
+    nodes.append({"name": "front", "camera": 0, "translation": [0.0, 1.55, 3.2],
                   "rotation": [math.sin(tilt / 2), 0.0, 0.0, math.cos(tilt / 2)]})
     gltf = {
         "asset": {"version": "2.0", "generator": "pathview scripts/make_gltf_showcase.py"},

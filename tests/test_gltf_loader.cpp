@@ -453,6 +453,52 @@ TEST(GltfLoader, MaterialsFactorsTexturesAlphaModesEmissionAndExtensions) {
     EXPECT_EQ(s.textures[s.materials[4].alpha_texture].texels()[0].w, 0.25f);
 }
 
+// metallicRoughnessTexture: read as linear data (B metallic, G roughness), and a metallic factor of 1 with a texture
+// keeps the diffuse and specular lobes a texel of metallic 0 needs: the material at a texel equals the untextured
+// material of the texel's parameters.
+TEST(GltfLoader, MetallicRoughnessTextureIsLinearAndKeepsTheLobesItsTexelsNeed) {
+    Gltf g;
+    const uint8_t px[4][4] = {{0, 128, 0, 255}, {0, 255, 255, 255}, {0, 64, 128, 255}, {0, 0, 255, 255}};
+    g.j["images"] = {{{"bufferView", g.view(tga_2x2(px))}, {"mimeType", "image/png"}}};
+    g.j["textures"] = {{{"source", 0}}};
+    g.j["materials"] = {{{"name", "textured metal"},
+                         {"pbrMetallicRoughness",
+                          {{"baseColorFactor", {0.8, 0.5, 0.2, 1}},
+                           {"metallicFactor", 1},
+                           {"roughnessFactor", 1},
+                           {"metallicRoughnessTexture", {{"index", 0}}}}}}};
+    const int pos = g.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    const int uv = g.floats({0, 0, 1, 0, 0, 1}, "VEC2", 2);
+    g.scene(json::array({g.node({{"mesh", g.mesh({{"POSITION", pos}, {"TEXCOORD_0", uv}}, -1, -1, 0)}})}));
+    const Scene s = load(g.text(), "mr.gltf");
+    for (const std::string& w : s.warnings) ADD_FAILURE() << w;
+    const Material& m = s.materials[0];
+    ASSERT_NE(m.metallic_roughness_texture, kNoIndex);
+    const std::vector<vec4> t = s.textures[m.metallic_roughness_texture].texels();
+    EXPECT_NEAR(t[0].y, 128.f / 255.f, 1e-3f) << "the texture is data, not sRGB colour";
+    EXPECT_NEAR(t[2].z, 128.f / 255.f, 1e-3f);
+    const auto* mr = std::get_if<MetallicRoughness>(&m.bsdf);
+    ASSERT_NE(mr, nullptr);
+    EXPECT_FALSE(is_delta(m.bsdf));
+    for (const vec4& texel : t) {
+        MetallicRoughness at = *mr;
+        apply_metallic_roughness_texel(at, texel.z, texel.y);
+        MetallicRoughness want;
+        want.base_color = mr->base_color;
+        want.metallic = texel.z;
+        want.roughness = glm::max(texel.y, 0.f);
+        prepare_metallic_roughness(want);
+        if (want.alpha == 0.f) continue;  // a texel roughness of 0 stays rough (kMinAlpha): compared elsewhere
+        for (const vec3 wo : {vec3(0.f, 0.f, 1.f), glm::normalize(vec3(0.5f, 0.1f, 0.7f))})
+            for (const vec3 wi : {glm::normalize(vec3(-0.3f, 0.2f, 0.9f)), glm::normalize(vec3(0.6f, -0.5f, 0.3f))}) {
+                const vec3 a = eval(Bsdf(at), wo, wi), b = eval(Bsdf(want), wo, wi);
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_NEAR(a[c], b[c], 1e-5f * (1.f + b[c])) << "texel " << texel.z << "," << texel.y;
+                EXPECT_NEAR(pdf(Bsdf(at), wo, wi), pdf(Bsdf(want), wo, wi), 1e-4f);
+            }
+    }
+}
+
 // ------------------------------------------------------------------------------------------------- bad files
 
 struct ChildResult {
