@@ -41,6 +41,7 @@ struct RenderOptions {
     bool aovs = false;              // feature and film-statistics layers in the EXR (core/aov.h)
     bool denoise = false;           // NFOR (core/denoise_nfor.h); the raw mean is kept as the noisy.* layer
     std::string denoiser = "nfor";  // or "atrous", the viewer's interactive filter (core/denoise_atrous.h)
+    std::string region;             // --region x0,y0,x1,y1: render only these pixels (core/renderer.h)
 };
 
 // Options that --resume takes from the part instead (they define the image).
@@ -130,6 +131,21 @@ void run(RenderOptions& o) {
                                           : "--resume") +
                     ": a partial render holds only the film's sums, not feature layers or a denoised image; render "
                     "the parts without it (merge them, then denoise a full render)");
+    // A region is not part of the partial format (merging parts of different regions would mix images): refused.
+    if (!o.region.empty() && (!o.shard.empty() || !o.samples.empty() || !o.resume.empty()))
+        throw Error(std::string("--region with ") +
+                    (!o.shard.empty()     ? "--shard"
+                     : !o.samples.empty() ? "--samples"
+                                          : "--resume") +
+                    ": partial renders cover the whole image; render the region without it");
+    if (!o.region.empty() && o.denoise)
+        throw Error(
+            "--region with --denoise: the denoiser would blend the black outside the region into its edges; "
+            "denoise a full render");
+    if (!o.region.empty() && (o.common.adaptive.allocate || o.common.adaptive.enabled()))
+        throw Error(std::string("--region with ") +
+                    (o.common.adaptive.allocate ? "--adaptive on" : "--noise-threshold") +
+                    ": adaptive sampling cannot be combined with a render region");
     if (!o.shard.empty()) {
         uint64_t index = 0, shards = 0;
         parse_shard(o.shard, index, shards);
@@ -178,6 +194,8 @@ void run(RenderOptions& o) {
         check_writable(out);  // before the render, not after it
     }
     check_film_memory(o.common.width, o.common.height);
+    std::optional<PixelRect> region;
+    if (!o.region.empty()) region = parse_region(o.region, o.common.width, o.common.height, "--region");
 
     const bool tty = !o.quiet && isatty(STDERR_FILENO);
     const auto load_start = std::chrono::steady_clock::now();
@@ -219,6 +237,7 @@ void run(RenderOptions& o) {
                      double(as.bytes) / double(std::max<size_t>(1, scene->triangle_count())));
     }
     renderer.set_adaptive(o.common.adaptive);
+    renderer.set_region(region);
     renderer.restart(camera, o.common.settings, o.common.width, o.common.height);
     if (resumed) {
         const uint64_t hash =
@@ -338,6 +357,11 @@ void run(RenderOptions& o) {
         double(st.rays + st.shadow_rays) / double(std::max<uint64_t>(st.paths, 1)),
         static_cast<unsigned long long>(st.dropped), renderer.threads(), renderer.threads() == 1 ? "" : "s",
         renderer.settings_as_rendered().describe().c_str(), written.c_str());
+    if (renderer.has_region()) {
+        const PixelRect& r = renderer.region();
+        std::printf("pathview: region %s: %d x %d pixels rendered, black outside\n", format_region(r).c_str(),
+                    r.x1 - r.x0, r.y1 - r.y0);
+    }
     if (st.guide_seconds > 0.0) {
         char why[160] = "";
         if (renderer.settings().sky_guide == SkyGuideMode::Auto)
@@ -402,6 +426,10 @@ void add_render_command(CLI::App& app) {
     cmd->add_flag("--denoise", o->denoise,
                   "Denoise (NFOR regression on first-hit features, cross-validated between "
                   "the even/odd halves): the image written is denoised, EXRs keep the raw mean as noisy.R/G/B");
+    cmd->add_option("--region", o->region,
+                    "Render only the pixels x0 <= x < x1, y0 <= y < y1 (x0,y0,x1,y1 from the top-left): each takes "
+                    "the samples a full render gives it, the rest of the image is black; EXR metadata "
+                    "pathview:region. Not with partial renders, --denoise or adaptive sampling");
     cmd->add_option("--denoiser", o->denoiser,
                     "Denoiser for --denoise: nfor (final quality) or atrous (the viewer's "
                     "interactive edge-avoiding filter)")

@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/partial.h"
 #include "core/sky_guide.h"
 #include "core/tsan.h"
 
@@ -58,6 +59,14 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     m_settings = settings;
     m_film.reset(width, height);
     m_adaptive = m_adaptive_next;
+    m_region = PixelRect{0, 0, width, height};
+    if (m_region_next) {
+        const PixelRect& r = *m_region_next;
+        m_region = PixelRect{std::clamp(r.x0, 0, width), std::clamp(r.y0, 0, height), std::clamp(r.x1, 0, width),
+                             std::clamp(r.y1, 0, height)};
+        if (has_region() && (m_adaptive.enabled() || m_adaptive.allocate))
+            throw Error("a render region cannot be combined with adaptive sampling");
+    }
     m_mask.reset(width, height);
     // Allocation: the pilot and main films, which m_film combines (core/adaptive.h); nothing without it.
     m_pilot.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);
@@ -140,6 +149,7 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const uint32_t seed = pilot ? pilot_seed(m_settings.seed) : m_settings.seed;
     const uint8_t* active = m_adaptive.masks() ? m_mask.mask().data() : nullptr;  // nothing: every pixel
     const int in_flight = m_paths_in_flight;
+    const PixelRect region = m_region;
 
     const char fork_edge = 0, join_edge = 0;  // addresses for TSan's happens-before edges (core/tsan.h)
     tsan_release(&fork_edge);
@@ -163,8 +173,12 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
                     return;
                 }
                 TileTotals& tt = totals[size_t(tile)];
-                const int x0 = (tile % tiles_x) * kTile, y0 = (tile / tiles_x) * kTile;
-                const int x1 = std::min(x0 + kTile, w), y1 = std::min(y0 + kTile, h);
+                // The tile clipped to the region (the whole image without one: the tiles as they always were).
+                const int x0 = std::max((tile % tiles_x) * kTile, region.x0);
+                const int y0 = std::max((tile / tiles_x) * kTile, region.y0);
+                const int x1 = std::min({(tile % tiles_x) * kTile + kTile, w, region.x1});
+                const int y1 = std::min({(tile / tiles_x) * kTile + kTile, h, region.y1});
+                if (x1 <= x0 || y1 <= y0) continue;
                 const int tile_w = x1 - x0, tile_pixels = tile_w * (y1 - y0);
                 // The tile's pixels in scan order, each path in one of `in_flight` slots, the slots advanced in turn
                 // (PathWalker::step) and each refilled with the next pixel as its path ends. A pixel takes one
@@ -249,6 +263,7 @@ Metadata render_metadata(const Renderer& r) {
     m["pathview:rays"] = std::to_string(st.rays + st.shadow_rays);
     m["pathview:scene"] = r.scene().source;
     m["pathview:threads"] = std::to_string(r.threads());
+    if (r.has_region()) m["pathview:region"] = format_region(r.region());
     if (r.adaptive_settings().enabled()) {
         m["pathview:noise_threshold"] = std::to_string(r.adaptive_settings().noise_threshold);
         m["pathview:min_spp"] = std::to_string(r.adaptive_settings().min_spp);
@@ -260,6 +275,30 @@ Metadata render_metadata(const Renderer& r) {
         m["pathview:mean_spp"] = std::to_string(r.film().mean_count());
     }
     return m;
+}
+
+std::string format_region(const PixelRect& r) {
+    return std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) + "," + std::to_string(r.y1);
+}
+
+PixelRect parse_region(const std::string& text, int width, int height, const std::string& what) {
+    const std::string shown = what + " " + quote_prefix(text);
+    int v[4] = {0, 0, 0, 0};
+    size_t pos = 0;
+    for (int i = 0; i < 4; ++i) {
+        const size_t end = i < 3 ? text.find(',', pos) : text.size();
+        if (end == std::string::npos) throw Error(shown + ": expected x0,y0,x1,y1 (four integers)");
+        const std::optional<uint64_t> n = parse_decimal(text.substr(pos, end - pos), 1u << 30);
+        if (!n) throw Error(shown + ": expected x0,y0,x1,y1 (four non-negative integers)");
+        v[i] = int(*n);
+        pos = end + 1;
+    }
+    const PixelRect r{v[0], v[1], v[2], v[3]};
+    if (r.empty()) throw Error(shown + ": the region is empty (it needs x0 < x1 and y0 < y1; x1 and y1 are excluded)");
+    if (r.x1 > width || r.y1 > height)
+        throw Error(shown + ": the region is not inside the " + std::to_string(width) + "x" + std::to_string(height) +
+                    " image (x1 <= width, y1 <= height)");
+    return r;
 }
 
 std::string format_si(double value) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "core/adaptive.h"
@@ -31,6 +32,20 @@ struct RenderStats {
     bool guide_used = false;            // the trained guide samples the sky (--sky-guide on, or auto's decision)
     double guide_variance_ratio = 1.0;  // the training's prediction (SkyGuideTraining::variance_ratio)
 };
+
+// A render region: the pixels x0 <= x < x1, y0 <= y < y1 of the image (half-open, from the top-left).
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+    bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+    bool operator==(const PixelRect& o) const { return x0 == o.x0 && y0 == o.y0 && x1 == o.x1 && y1 == o.y1; }
+    bool operator!=(const PixelRect& o) const { return !(*this == o); }
+};
+// "x0,y0,x1,y1".
+std::string format_region(const PixelRect& r);
+// Parses "x0,y0,x1,y1" (four non-negative integers) and checks it against a width x height image: throws pv::Error
+// naming `what` when malformed, empty or not inside the image.
+PixelRect parse_region(const std::string& text, int width, int height, const std::string& what);
 
 class Renderer {
 public:
@@ -61,6 +76,15 @@ public:
     uint32_t next_sample() const { return m_next_sample; }
     // Replaces the film's accumulators with `film` (the current size; e.g. a partial render being resumed).
     void load_film(Film film);
+
+    // A render region for the accumulations that follow (takes effect at the next restart(), clamped to the image
+    // there; nothing: the whole image). Every sample of a pass lands inside it; pixels outside keep no samples.
+    // Inside, a pixel takes exactly the samples a full render gives it (they depend on pixel and index only), so
+    // its value equals the full render's bit for bit. Not with adaptive sampling (restart() throws pv::Error).
+    void set_region(std::optional<PixelRect> region) { m_region_next = region; }
+    // The region in use: the whole image without one.
+    const PixelRect& region() const { return m_region; }
+    bool has_region() const { return m_region != PixelRect{0, 0, m_film.width(), m_film.height()}; }
 
     // Adaptive sampling (core/adaptive.h) for the accumulations that follow: takes effect at the next restart().
     void set_adaptive(const AdaptiveSettings& adaptive) { m_adaptive_next = adaptive; }
@@ -109,6 +133,8 @@ private:
     uint32_t m_main_passes = 0;
     AdaptiveSettings m_adaptive, m_adaptive_next;
     AdaptiveMask m_mask;
+    std::optional<PixelRect> m_region_next;
+    PixelRect m_region;
     RenderStats m_stats;
     uint32_t m_next_sample = 0;
     uint32_t m_first_sample = 0;   // m_next_sample at the accumulation's first pass
@@ -129,7 +155,8 @@ private:
 constexpr size_t kInterleaveBytes = size_t(4) << 20;
 int default_paths_in_flight(const TraceableScene& ts);
 
-// EXR metadata describing the current accumulation: spp, seconds, settings, camera, dropped samples, scene.
+// EXR metadata describing the current accumulation: spp, seconds, settings, camera, dropped samples, scene (and
+// pathview:region "x0,y0,x1,y1" with a region).
 Metadata render_metadata(const Renderer& renderer);
 
 // "12.3 M" style formatting of a rate, for summaries.
