@@ -36,6 +36,14 @@ uint64_t ProgressiveRenderer::restart(const RenderRequest& request) {
     if (!request.materials.empty() && request.materials.size() != m_scene->materials.size())
         throw Error("restart: expected one material per scene material");
     (void)Camera(request.camera, request.width, request.height);
+    if (request.region) {
+        const PixelRect& r = *request.region;
+        if (std::max(r.x0, 0) >= std::min(r.x1, request.width) || std::max(r.y0, 0) >= std::min(r.y1, request.height))
+            throw Error("restart: the render region " + format_region(r) + " holds no pixel of the " +
+                        std::to_string(request.width) + "x" + std::to_string(request.height) + " image");
+        if (request.adaptive.enabled() || request.adaptive.allocate)
+            throw Error("restart: a render region cannot be combined with adaptive sampling");
+    }
     uint64_t generation;
     {
         std::lock_guard<std::mutex> lock(m_mutex);
@@ -166,13 +174,15 @@ void ProgressiveRenderer::drive() {
             if (!request.materials.empty()) m_renderer.set_materials(request.materials);
             if (request.environment) m_renderer.set_environment(*request.environment);
             m_renderer.set_adaptive(request.adaptive);
+            m_renderer.set_region(request.region);
             m_renderer.restart(request.camera, request.settings, request.width, request.height);
             m_error_history.clear();
         }
         // Between passes the film holds whole passes only; a new accumulation gets its first pass first.
         if (make_partial && m_renderer.stats().spp > 0) {
             const uint32_t spp = m_renderer.stats().spp;
-            const bool refused = m_renderer.adaptive_settings().allocate;
+            const bool region = m_renderer.has_region();
+            const bool refused = m_renderer.adaptive_settings().allocate || region;
             std::optional<PartialRender> part;
             if (!refused) part = partial_from_renderer(m_renderer, {{m_renderer.next_sample() - spp, spp}});
             std::function<void()> on_publish;
@@ -184,7 +194,11 @@ void ProgressiveRenderer::drive() {
             {
                 std::lock_guard<std::mutex> lock(m_snapshot_mutex);
                 m_partial = std::move(part);
-                if (refused)
+                if (region)
+                    m_partial_refusal =
+                        "no resumable snapshot of a render region (partial renders cover the whole image): clear the "
+                        "region to make one";
+                else if (refused)
                     m_partial_refusal =
                         "no resumable snapshot with adaptive sampling on (its samples are not per index): "
                         "turn it off to make one";
@@ -298,6 +312,7 @@ void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool
     s.ms_per_pass = st.last_pass_seconds * 1e3;
     s.target_reached = target_reached;
     s.sky_guide = m_renderer.sky_guide_status();
+    s.region = m_renderer.region();
     s.active_fraction = 1.0;
     s.seconds_to_threshold = -1.0;
     if (const AdaptiveSettings& a = m_renderer.adaptive_settings(); a.enabled()) {

@@ -29,6 +29,9 @@ struct RenderRequest {
     std::vector<Material> materials;
     std::optional<EnvironmentSettings> environment;  // nothing = keep the current one
     AdaptiveSettings adaptive;                       // noise threshold (off by default)
+    // A render region in this request's pixels (Renderer::set_region; clamped to the image): every sample lands
+    // inside it. Nothing: the whole image. Not with adaptive sampling; no resumable snapshot of a region.
+    std::optional<PixelRect> region;
 };
 
 // The published state of one accumulation after a completed pass. Images are row-major from the top-left.
@@ -62,7 +65,8 @@ struct Snapshot {
     double denoise_ms = 0.0;
     CameraDesc camera;
     RenderSettings settings;
-    Metadata metadata;  // render_metadata() of this accumulation, for EXR snapshots
+    PixelRect region;   // the render region (the whole image without one): pixels outside have no samples
+    Metadata metadata;  // render_metadata() of this accumulation, for EXR snapshots (with pathview:region)
 };
 
 class ProgressiveRenderer {

@@ -55,18 +55,20 @@ void Renderer::set_materials(const std::vector<Material>& materials) {
 }
 
 void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings, int width, int height) {
+    // Checked before anything changes: a refused restart leaves the renderer as it was.
+    PixelRect region{0, 0, width, height};
+    if (m_region_next) {
+        const PixelRect& r = *m_region_next;
+        region = PixelRect{std::clamp(r.x0, 0, width), std::clamp(r.y0, 0, height), std::clamp(r.x1, 0, width),
+                           std::clamp(r.y1, 0, height)};
+        if (region != PixelRect{0, 0, width, height} && (m_adaptive_next.enabled() || m_adaptive_next.allocate))
+            throw Error("a render region cannot be combined with adaptive sampling");
+    }
+    m_region = region;
     m_camera = Camera(camera, width, height);
     m_settings = settings;
     m_film.reset(width, height);
     m_adaptive = m_adaptive_next;
-    m_region = PixelRect{0, 0, width, height};
-    if (m_region_next) {
-        const PixelRect& r = *m_region_next;
-        m_region = PixelRect{std::clamp(r.x0, 0, width), std::clamp(r.y0, 0, height), std::clamp(r.x1, 0, width),
-                             std::clamp(r.y1, 0, height)};
-        if (has_region() && (m_adaptive.enabled() || m_adaptive.allocate))
-            throw Error("a render region cannot be combined with adaptive sampling");
-    }
     m_mask.reset(width, height);
     // Allocation: the pilot and main films, which m_film combines (core/adaptive.h); nothing without it.
     m_pilot.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);

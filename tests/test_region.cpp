@@ -6,9 +6,11 @@
 
 #include <cstring>
 #include <filesystem>
+#include <thread>
 
 #include "core/error.h"
 #include "core/image_io.h"
+#include "core/progressive.h"
 #include "core/renderer.h"
 #include "core/scene_file.h"
 #include "tests/support/cli.h"
@@ -106,6 +108,45 @@ TEST(Region, ParseRegion) {
             EXPECT_EQ(std::string(e.what()).rfind("--region", 0), 0u) << e.what();
         }
     }
+}
+
+// The viewer's driver: a request's region reaches the renderer, the snapshot says it (and its metadata records it),
+// no sample lands outside, and a resumable snapshot is refused with a reason.
+TEST(RegionProgressive, RequestRegionReachesTheSnapshot) {
+    ProgressiveRenderer pr(cornell(), 2);
+    RenderRequest req;
+    req.camera = cornell()->camera;
+    req.width = kW;
+    req.height = kH;
+    req.region = PixelRect{10, 4, 33, 19};
+    const uint64_t g = pr.restart(req);
+    ASSERT_TRUE(pr.wait_for(g, 2, std::chrono::seconds(300)));
+    Snapshot s;
+    ASSERT_TRUE(pr.latest(s));
+    EXPECT_EQ(s.region, *req.region);
+    EXPECT_EQ(s.metadata.at("pathview:region"), "10,4,33,19");
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) {
+            const float n = s.samples[size_t(y) * kW + size_t(x)];
+            if (req.region->contains(x, y))
+                EXPECT_GE(n, 2.f) << x << "," << y;
+            else
+                EXPECT_EQ(n, 0.f) << x << "," << y;
+        }
+    pr.request_partial();
+    std::string why;
+    for (int i = 0; i < 3000 && why.empty(); ++i) {
+        why = pr.take_partial_refusal();
+        if (why.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    EXPECT_NE(why.find("render region"), std::string::npos) << why;
+    EXPECT_FALSE(pr.take_partial());
+    // Refused on the caller's thread, nothing posted: a region outside the image, or with adaptive sampling.
+    req.region = PixelRect{kW, 0, kW + 5, 5};
+    EXPECT_THROW(pr.restart(req), Error);
+    req.region = PixelRect{0, 0, 5, 5};
+    req.adaptive.noise_threshold = 0.05f;
+    EXPECT_THROW(pr.restart(req), Error);
 }
 
 // The CLI end to end.
