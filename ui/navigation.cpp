@@ -1,6 +1,9 @@
 // ui/navigation.cpp: gestures -> camera (see navigation.h).
 #include "navigation.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace pv::ui {
 
 NavigationResult Navigation::handle(InputQueue& input, const NavigationFrame& frame, CameraController& camera,
@@ -15,6 +18,7 @@ NavigationResult Navigation::handle(InputQueue& input, const NavigationFrame& fr
         if (glm::length(p - m_drag.start) > kClickSlopPx) m_drag.moved = true;
         const vec2 d = p - m_drag.last;
         m_drag.last = p;
+        if (m_drag.region) return;  // the rectangle is taken at the release
         if (!m_drag.moved || (d.x == 0.f && d.y == 0.f)) return;
         if (m_drag.pan)
             camera.pan(d, frame.window_height);
@@ -29,10 +33,15 @@ NavigationResult Navigation::handle(InputQueue& input, const NavigationFrame& fr
             m_drag.active = true;
             m_drag.button = e.button;
             m_drag.pan = e.button == GLFW_MOUSE_BUTTON_MIDDLE || (e.mods & GLFW_MOD_SHIFT);
+            m_drag.region = e.button == GLFW_MOUSE_BUTTON_LEFT && (e.mods & GLFW_MOD_CONTROL) && !m_drag.pan;
             m_drag.start = m_drag.last = e.pos;
         } else if (e.action == GLFW_RELEASE && m_drag.active && e.button == m_drag.button) {
             drag_to(e.pos);
             m_drag.active = false;
+            if (m_drag.region) {
+                if (m_drag.moved) set_region(m_drag.start, e.pos, frame, state, act);
+                continue;
+            }
             if (!m_drag.moved && e.button == GLFW_MOUSE_BUTTON_LEFT) click(e.pos, e.time, frame, camera, state, result);
         }
     }
@@ -53,6 +62,11 @@ NavigationResult Navigation::handle(InputQueue& input, const NavigationFrame& fr
         if (ctrl || frame.imgui_wants_keyboard) continue;
         if (key == GLFW_KEY_F) act.frame_all = true;
         if (key == GLFW_KEY_R) act.reset_camera = true;
+        if (key == GLFW_KEY_X && state.region) {
+            state.region.reset();
+            act.region_changed = true;
+            m_log.line("action region cleared");
+        }
         if (key == GLFW_KEY_P) {
             state.paused = !state.paused;
             act.control_changed = true;
@@ -85,6 +99,19 @@ NavigationResult Navigation::handle(InputQueue& input, const NavigationFrame& fr
         }
     }
     return result;
+}
+
+void Navigation::set_region(vec2 a, vec2 b, const NavigationFrame& frame, ViewState& state, PanelActions& act) {
+    const vec2 render = frame.render_size.x > 0.f ? frame.render_size : frame.image_size;
+    const vec2 scale = render / glm::max(frame.image_size, vec2(1.f));
+    const vec2 lo = glm::min(a, b) * scale, hi = glm::max(a, b) * scale;
+    const int w = int(render.x), h = int(render.y);
+    const PixelRect r{std::clamp(int(std::floor(lo.x)), 0, w), std::clamp(int(std::floor(lo.y)), 0, h),
+                      std::clamp(int(std::ceil(hi.x)), 0, w), std::clamp(int(std::ceil(hi.y)), 0, h)};
+    if (r.empty()) return;
+    state.region = r;
+    act.region_changed = true;
+    m_log.line("action region %s", format_region(r).c_str());
 }
 
 void Navigation::click(vec2 pos, double time, const NavigationFrame& frame, CameraController& camera, ViewState& state,

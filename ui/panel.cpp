@@ -351,6 +351,20 @@ void Panel::materials(ViewState& state, PanelActions& act) {
 }
 
 void Panel::snapshots(ViewState& state, PanelActions& act) {
+    // The render region: snapshots record it (pathview:region); a resumable EXR covers the whole image only.
+    if (state.region) {
+        ImGui::Text("Region %s", format_region(*state.region).c_str());
+        if (state.adaptive.enabled() || state.adaptive.allocate)
+            status_text("not applied: adaptive sampling is on", false);
+        ImGui::SameLine();
+        if (ImGui::Button("Clear region (X)")) {
+            state.region.reset();
+            act.region_changed = true;
+        }
+        log_widget("clear_region");
+    } else {
+        ImGui::TextDisabled("Region: whole image (Ctrl+left drag sets one)");
+    }
     if (ImGui::Button("Save EXR (Ctrl+S)")) act.save = true;
     log_widget("save");
     ImGui::SameLine();

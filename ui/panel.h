@@ -4,12 +4,14 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "camera_controller.h"
 #include "convergence.h"
 #include "core/environment.h"
+#include "core/renderer.h"
 #include "display.h"
 #include "view_log.h"
 
@@ -38,6 +40,9 @@ struct ViewState {
     std::vector<Scene::Bookmark> bookmarks;  // saved with the scene file (Camera section)
     std::string bookmark_status;
     bool bookmark_ok = true;
+    // The render region in image pixels (Ctrl+left drag; X or "Clear region" clears it): every sample lands inside
+    // it. Nothing: the whole image. Not applied while adaptive sampling is on.
+    std::optional<PixelRect> region;
 };
 
 // Read-only facts the panel shows.
@@ -66,8 +71,9 @@ struct PanelActions {
     bool reset_camera = false;
     bool load_scene = false;
     bool environment_changed = false;
-    int goto_bookmark = -1;     // index into ViewState::bookmarks
-    std::string save_bookmark;  // non-empty: save the current camera under this name
+    int goto_bookmark = -1;       // index into ViewState::bookmarks
+    std::string save_bookmark;    // non-empty: save the current camera under this name
+    bool region_changed = false;  // ViewState::region set or cleared
 };
 
 class Panel {

@@ -14,6 +14,7 @@ std::string restart_reason(const PanelActions& act, bool camera_moved, bool resi
     if (act.settings_changed) add("settings");
     if (act.materials_changed) add("material");
     if (act.environment_changed) add("environment");
+    if (act.region_changed) add("region");
     if (resized) add("resize");
     if (act.restart) add("restart");
     return reason;
@@ -29,6 +30,14 @@ RenderRequest make_request(const ViewState& state, const CameraDesc& camera, int
     req.width = std::max(1, full_w / level);
     req.height = std::max(1, full_h / level);
     if (with_materials) req.materials = state.materials;
+    // The region in this level's pixels: every full-resolution pixel it covers stays covered.
+    if (state.region && !state.adaptive.enabled() && !state.adaptive.allocate) {
+        const PixelRect& r = *state.region;
+        req.region = PixelRect{std::min(r.x0 / level, req.width - 1), std::min(r.y0 / level, req.height - 1),
+                               std::clamp((r.x1 + level - 1) / level, 1, req.width),
+                               std::clamp((r.y1 + level - 1) / level, 1, req.height)};
+        if (req.region->empty()) req.region.reset();
+    }
     return req;
 }
 

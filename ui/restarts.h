@@ -13,10 +13,11 @@
 
 namespace pv::ui {
 
-// "camera,settings,material,environment,resize,restart" for the changes present, in that order; "" for none.
+// "camera,settings,material,environment,region,resize,restart" for the changes present, in that order; "" for none.
 std::string restart_reason(const PanelActions& act, bool camera_moved, bool resized);
 
-// The request for an image region of full_w x full_h pixels at resolution divisor `level` (at least 1x1).
+// The request for an image region of full_w x full_h pixels at resolution divisor `level` (at least 1x1), with
+// state.region scaled to that level (none while adaptive sampling is on: the renderer refuses the two together).
 RenderRequest make_request(const ViewState& state, const CameraDesc& camera, int full_w, int full_h, int level,
                            bool with_materials, bool with_environment);
 

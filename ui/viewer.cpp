@@ -273,6 +273,7 @@ NavigationFrame Viewer::navigation_frame(double dt) const {
     glfwGetCursorPos(m_window.get(), &cx, &cy);
     f.cursor = vec2(float(cx), float(cy));
     f.image_size = vec2(float(m_full_w), float(m_full_h)) / m_fb_scale;
+    f.render_size = vec2(float(m_full_w), float(m_full_h));
     glfwGetWindowSize(m_window.get(), nullptr, &f.window_height);
     f.imgui_wants_mouse = ImGui::GetIO().WantCaptureMouse;
     f.imgui_wants_keyboard = ImGui::GetIO().WantCaptureKeyboard;

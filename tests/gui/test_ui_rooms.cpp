@@ -10,6 +10,7 @@
 #include "core/scene_file.h"
 #include "navigation.h"
 #include "refinement.h"
+#include "restarts.h"
 #include "scene_loader.h"
 
 namespace pv::ui {
@@ -71,6 +72,49 @@ TEST(ViewerNavigation, ShiftDragPansAndMiddleDragPans) {
         EXPECT_LT(f.camera.desc().target.x, 0.f);  // the target moved with the eye
         EXPECT_NEAR(f.camera.desc().target.x, f.camera.desc().eye.x, 1e-4f);
     }
+}
+
+// Ctrl+left drag sets a render region in render pixels (here 2 per window pixel) and moves no camera; X clears it.
+TEST(ViewerNavigation, CtrlDragSetsARegionAndXClearsIt) {
+    NavFixture f;
+    f.frame.render_size = vec2(800.f, 600.f);
+    const CameraDesc before = f.camera.desc();
+    PanelActions act;
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, vec2(150.5f, 120.f), 0.0, GLFW_MOD_CONTROL);
+    f.frame.cursor = vec2(60.f, 40.f);
+    EXPECT_FALSE(f.frame_once(act).camera_moved);
+    EXPECT_FALSE(act.region_changed);  // taken at the release
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, vec2(50.f, 30.25f), 0.1, GLFW_MOD_CONTROL);
+    EXPECT_FALSE(f.frame_once(act).camera_moved);
+    EXPECT_EQ(f.camera.desc().eye, before.eye);
+    EXPECT_EQ(f.picks, 0);
+    ASSERT_TRUE(act.region_changed);
+    ASSERT_TRUE(f.state.region);
+    EXPECT_EQ(*f.state.region, (PixelRect{100, 60, 301, 240}));
+    // A ctrl+click (no drag) sets nothing; X clears the region.
+    PanelActions act2;
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, vec2(10.f, 10.f), 1.0, GLFW_MOD_CONTROL);
+    f.button(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, vec2(10.f, 10.f), 1.1, GLFW_MOD_CONTROL);
+    f.input.keys.emplace_back(GLFW_KEY_X, 0);
+    f.frame_once(act2);
+    EXPECT_TRUE(act2.region_changed);
+    EXPECT_FALSE(f.state.region);
+    EXPECT_EQ(restart_reason(act2, false, false), "region");
+}
+
+// The request carries the region at the refinement level's resolution, covering every full-resolution pixel of it;
+// none while adaptive sampling is on (the renderer refuses the two together).
+TEST(ViewerRestarts, RequestCarriesTheRegionScaledToTheLevel) {
+    ViewState state;
+    state.region = PixelRect{101, 60, 303, 240};
+    const CameraDesc cam = test_camera();
+    EXPECT_EQ(make_request(state, cam, 800, 600, 1, false, false).region, state.region);
+    EXPECT_EQ(make_request(state, cam, 800, 600, 4, false, false).region, (PixelRect{25, 15, 76, 60}));
+    state.region = PixelRect{799, 599, 800, 600};
+    EXPECT_EQ(make_request(state, cam, 800, 600, 4, false, false).region, (PixelRect{199, 149, 200, 150}));
+    EXPECT_FALSE(make_request(ViewState{}, cam, 800, 600, 1, false, false).region);
+    state.adaptive.noise_threshold = 0.05f;
+    EXPECT_FALSE(make_request(state, cam, 800, 600, 1, false, false).region);
 }
 
 TEST(ViewerNavigation, PressesImGuiWantsOrOutsideTheImageStartNoDrag) {
