@@ -169,7 +169,7 @@ bool Viewer::wait_for_work() {
 
     bool work = continuous || m_input.any || m_schedule.deferral_expired(glfwGetTime());
     if (m_image.update([this](Snapshot& s) { return m_renderer->latest(s); })) {
-        m_display->upload(m_image.shown(), m_state.display.denoise);
+        m_display->upload(m_image.displayed(), m_state.display.denoise);
         work = true;
     }
     if (m_snapshots.save_partial(m_renderer->take_partial(), m_state)) work = true;
@@ -216,7 +216,7 @@ int Viewer::run() {
         if (m_state.display.denoise != m_denoising) {  // a display change: the accumulation is not restarted
             m_denoising = m_state.display.denoise;
             m_renderer->set_denoise(m_denoising);
-            m_display->upload(m_image.shown(), m_denoising);
+            m_display->upload(m_image.displayed(), m_denoising);
             m_log.line("denoise %d", int(m_denoising));
         }
 

@@ -291,6 +291,40 @@ TEST(ViewerShownImage, TakesNewerPassesAndRefusesOlderGenerations) {
     EXPECT_EQ(image.history().size(), 1u);
 }
 
+// With a render region the display keeps the last whole image outside it, dimmed (scaled to a coarse pass's size);
+// shown() (what snapshots save) stays black outside.
+TEST(ViewerShownImage, RegionKeepsTheLastImageOutsideDimmed) {
+    ShownImage image;
+    FakeLatest latest;
+    auto fn = [&](Snapshot& s) { return latest(s); };
+    Snapshot whole = pass(1, 4);
+    whole.width = 4;
+    whole.height = 2;
+    whole.region = PixelRect{0, 0, 4, 2};
+    whole.rgb.assign(4 * 2 * 3, 0.f);
+    for (int i = 0; i < 8; ++i) whole.rgb[size_t(i) * 3] = float(i + 1);  // red = pixel number + 1
+    latest.next = whole;
+    ASSERT_TRUE(image.update(fn));
+    EXPECT_EQ(&image.displayed(), &image.shown());
+    Snapshot region = pass(2, 1);  // at half resolution: 2x1, the region its right pixel
+    region.width = 2;
+    region.height = 1;
+    region.region = PixelRect{1, 0, 2, 1};
+    region.rgb = {0.f, 0.f, 0.f, 9.f, 9.f, 9.f};
+    latest.next = region;
+    ASSERT_TRUE(image.update(fn));
+    const Snapshot& d = image.displayed();
+    ASSERT_EQ(d.rgb.size(), 6u);
+    EXPECT_FLOAT_EQ(d.rgb[0], 1.f * ShownImage::kDimming);  // the backdrop's pixel (0, 0), dimmed
+    EXPECT_EQ(d.rgb[3], 9.f);                               // inside: the region's accumulation
+    EXPECT_EQ(image.shown().rgb[0], 0.f);                   // saved snapshots: black outside
+    // Cleared: the whole image again.
+    latest.next = whole;
+    latest.next->generation = 3;
+    ASSERT_TRUE(image.update(fn));
+    EXPECT_EQ(&image.displayed(), &image.shown());
+}
+
 TEST(ViewerRestarts, ReasonListsTheChangesInOrder) {
     PanelActions act;
     EXPECT_EQ(restart_reason(act, false, false), "");
