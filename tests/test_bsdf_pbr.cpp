@@ -175,7 +175,8 @@ TEST(MetallicRoughnessFurnace, AlbedoAtMostOneEverywhere) {
     std::string where_highest;
     for (const auto& [name, b] : bsdfs)
         for (float c : cosines) {
-            const test::Moments a = albedo(b, dir_from_cos(c), 1 << 14, uint64_t(1000 * c + 7) + name.size());
+            const test::Moments a =
+                albedo(b, dir_from_cos(c), 1 << 14, uint64_t(int64_t(1000.f * c) + 7) + name.size());
             const std::string where = name + " at cos " + std::to_string(c) + ": " + std::to_string(a.mean) + " +- " +
                                       std::to_string(a.stderr_of_mean());
             EXPECT_LE(a.mean, 1.0 + k * a.stderr_of_mean() + 1e-5) << where;

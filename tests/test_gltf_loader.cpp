@@ -669,7 +669,11 @@ TEST(GltfLoader, DamagedFilesEndInOneLineNamingTheFileAndJsonPathWithinLittleMem
         });
         ASSERT_TRUE(r.finished) << c.what;
         EXPECT_EQ(r.exit_code, 0) << c.what << " (2: several lines, 3: no file name, 4: wrong text, 5: loaded)";
+#if !defined(PATHVIEW_SANITIZED)
+        // The memory bound holds for the allocator users run; ASan's shadow memory and quarantine inflate RSS by a
+        // factor that says nothing about the loader (the sanitizer run checks the rest of this test).
         EXPECT_LT(r.max_rss_kb - idle.max_rss_kb, 64 * 1024) << c.what;
+#endif
     }
 }
 
