@@ -261,6 +261,10 @@ uint64_t scene_hash(const Scene& scene, const std::vector<Material>& materials, 
     h.vector(scene.uvs);
     h.vector(scene.uv_indices);
     h.vector(scene.material_ids);
+    if (!scene.colors.empty()) {  // vertex colours (glTF COLOR_0) only when present: other scenes hash as before
+        h.vector(scene.colors);
+        h.vector(scene.color_indices);
+    }
     if (!scene.uvs1.empty() || !scene.punctual_lights.empty()) {  // glTF only: OBJ scenes hash as before
         h.vector(scene.uvs1);
         h.vector(scene.uv1_indices);
