@@ -1,6 +1,7 @@
 // core/integrator.cpp: the path tracer (see integrator.h). Structure after pbrt-v4's PathIntegrator::Li.
 #include "core/integrator.h"
 
+#include "core/normal_map.h"
 #include "core/surface.h"
 
 namespace pv {
@@ -125,6 +126,12 @@ bool PathWalker::step_with() {
                     m_sf = surface_point(scene, hit);
                 m_mat = kPacked ? &ts.materials()[m_record->material()] : &ts.material(hit.prim);
                 const Material& mat = *m_mat;
+                // A normal map tilts the shading normal (materials without one skip this).
+                if (mat.normal_texture != kNoIndex) [[unlikely]] {
+                    const vec2 uv = kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
+                    m_sf.ns = normal_mapped(scene, hit.prim, hit.u, hit.v, m_sf,
+                                            vec3(scene.textures[mat.normal_texture].lookup(uv)), mat.normal_scale);
+                }
                 m_front = glm::dot(-m_ray.d, m_sf.ng) > 0.f;
                 // Emission found by the BSDF-sampled ray; with NEE it is weighted so it is never counted twice.
                 if (TraceableScene::emits(mat, m_front)) {

@@ -93,7 +93,11 @@ struct Scene {
     std::vector<uvec3> uv1_indices;  // per triangle, into uvs1; empty, or kNoIndex where absent
     // Linear RGB vertex colours (glTF COLOR_0) multiplying the base colour; empty unless a file has non-white ones.
     std::vector<vec3> colors;
-    std::vector<uvec3> color_indices;    // per triangle, into colors; empty, or kNoIndex where absent
+    std::vector<uvec3> color_indices;  // per triangle, into colors; empty, or kNoIndex where absent
+    // World-space unit tangents with the bitangent's sign in w (glTF TANGENT: B = w cross(N, T)), for normal maps;
+    // empty unless a file gives them to a normal-mapped primitive (else tangents come from the uvs per triangle).
+    std::vector<vec4> tangents;
+    std::vector<uvec3> tangent_indices;  // per triangle, into tangents; empty, or kNoIndex where absent
     std::vector<uint32_t> material_ids;  // per triangle, into materials
     std::vector<Material> materials;
 

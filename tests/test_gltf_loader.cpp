@@ -499,6 +499,37 @@ TEST(GltfLoader, VertexColorsOfEveryAccessorTypeAreLoadedWhiteOnesNot) {
     EXPECT_TRUE(sw.color_indices.empty());
 }
 
+TEST(GltfLoader, NormalTextureIsLinearWithItsScaleAndTangentsFromTheFile) {
+    Gltf g;
+    const uint8_t px[4][4] = {{128, 128, 255, 255}, {255, 128, 128, 255}, {128, 255, 128, 255}, {0, 128, 128, 255}};
+    g.j["images"] = {{{"bufferView", g.view(tga_2x2(px))}, {"mimeType", "image/png"}}};
+    g.j["textures"] = {{{"source", 0}}};
+    g.j["materials"] = {{{"name", "bumpy"}, {"normalTexture", {{"index", 0}, {"scale", 0.5}}}},
+                        {{"name", "bumpy elsewhere"}, {"normalTexture", {{"index", 0}, {"texCoord", 1}}}}};
+    const int pos = g.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    const int uv = g.floats({0, 0, 1, 0, 0, 1}, "VEC2", 2);
+    const int tan = g.floats({1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1}, "VEC4", 4);
+    const int m0 = g.mesh({{"POSITION", pos}, {"TEXCOORD_0", uv}, {"TANGENT", tan}}, -1, -1, 0);
+    // Mirrored in x: the tangent turns to -x and its handedness flips.
+    g.scene(json::array({g.node({{"mesh", m0}}), g.node({{"mesh", m0}, {"scale", {-1, 1, 1}}}),
+                         g.node({{"mesh", g.mesh({{"POSITION", pos}, {"TEXCOORD_0", uv}}, -1, -1, 1)}})}));
+    const Scene s = load(g.text(), "normals.gltf");
+    const Material& m = s.materials[0];
+    ASSERT_NE(m.normal_texture, kNoIndex);
+    EXPECT_EQ(m.normal_scale, 0.5f);
+    const std::vector<vec4> t = s.textures[m.normal_texture].texels();
+    EXPECT_NEAR(t[0].x, 128.f / 255.f, 1e-3f) << "the normal map is data, not sRGB colour";
+    EXPECT_NEAR(t[0].z, 1.f, 1e-3f);
+    // A texCoord other than the base colour's: not used, one warning naming it.
+    EXPECT_EQ(s.materials[1].normal_texture, kNoIndex);
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("/materials/1/normalTexture"), std::string::npos) << s.warnings[0];
+    ASSERT_EQ(s.tangent_indices.size(), 3u);
+    EXPECT_EQ(s.tangents[s.tangent_indices[0].x], vec4(1, 0, 0, 1));
+    EXPECT_EQ(s.tangents[s.tangent_indices[1].x], vec4(-1, 0, 0, -1));
+    EXPECT_EQ(s.tangent_indices[2].x, kNoIndex) << "no TANGENT: from the uvs at the hit";
+}
+
 TEST(GltfLoader, MetallicRoughnessTextureIsLinearAndKeepsTheLobesItsTexelsNeed) {
     Gltf g;
     const uint8_t px[4][4] = {{0, 128, 0, 255}, {0, 255, 255, 255}, {0, 64, 128, 255}, {0, 0, 255, 255}};
