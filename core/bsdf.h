@@ -137,6 +137,10 @@ struct Material {
     // (emission already holds emissiveFactor x KHR_materials_emissive_strength). kNoIndex: uniform emission.
     uint32_t emissive_texture = kNoIndex;
     UvTransform emissive_uv;  // where emissive_texture is read (Scene::texcoord)
+    // glTF's normalTexture (linear: a tangent-space normal, 2 x texel - 1), read at the base colour's uv; its x and y
+    // are scaled by normal_scale. kNoIndex: the interpolated normal (no per-hit work).
+    uint32_t normal_texture = kNoIndex;
+    float normal_scale = 1.f;
     bool has_emission() const { return !is_black(emission); }
 };
 

@@ -97,7 +97,6 @@ struct Loader {
 
     size_t budget = kMinInstancingBudget;  // vertices and triangles at most (set from the buffers' size)
     size_t skipped_points_lines = 0, dropped_nonfinite = 0, dropped_degenerate = 0, visits = 0;
-    bool non_white_colors = false;
 
     void warn_once(const std::string& key, const std::string& text) {
         if (warned.insert(key).second) warnings.push_back(file + ": " + text);

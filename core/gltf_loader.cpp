@@ -241,8 +241,10 @@ void Loader::add_mesh(int mesh_index, const dmat4& world, const std::string& ref
         const std::vector<float> uv0 = attribute("TEXCOORD_0", {TINYGLTF_TYPE_VEC2}, tc0);
         const std::vector<float> uv1 = attribute("TEXCOORD_1", {TINYGLTF_TYPE_VEC2}, tc1);
         const std::vector<float> col = attribute("COLOR_0", {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4}, cc);
+        // Only a primitive whose colours are not all white stores them (an all-white COLOR_0 multiplies by 1).
+        bool colored = false;
         for (size_t i = 0; i < col.size(); ++i)
-            if ((cc == 3 || i % 4 != 3) && col[i] != 1.f) non_white_colors = true;
+            if ((cc == 3 || i % 4 != 3) && col[i] != 1.f) colored = true;
 
         std::vector<uint32_t> idx;
         if (prim.indices >= 0) {
@@ -295,6 +297,28 @@ void Loader::add_mesh(int mesh_index, const dmat4& world, const std::string& ref
             s.uvs.push_back(vec2(uv.x, 1.f - uv.y));
         }
         for (size_t i = 0; i < uv1.size() / 2; ++i) s.uvs1.push_back(vec2(uv1[2 * i], 1.f - uv1[2 * i + 1]));
+        // Tangents (glTF TANGENT) only for a normal-mapped material: directions by the linear part, the handedness
+        // w negated by a mirroring transform.
+        int tgc = 0;
+        const bool normal_mapped = material < s.materials.size() && s.materials[material].normal_texture != kNoIndex;
+        const std::vector<float> tan =
+            normal_mapped ? attribute("TANGENT", {TINYGLTF_TYPE_VEC4}, tgc) : std::vector<float>{};
+        const uint32_t g0 = uint32_t(s.tangents.size());
+        std::vector<uint8_t> bad_t(tan.empty() ? 0 : nv, 0);
+        for (size_t i = 0; i < tan.size() / 4; ++i) {
+            const dvec3 t = m3 * dvec3(tan[4 * i], tan[4 * i + 1], tan[4 * i + 2]);
+            const double l = glm::length(t);
+            bad_t[i] = !(l > 1e-20) || !std::isfinite(l);
+            const float w = (tan[4 * i + 3] < 0.f) != flip ? -1.f : 1.f;
+            s.tangents.push_back(bad_t[i] ? vec4(1.f, 0.f, 0.f, 1.f) : vec4(vec3(t / l), w));
+        }
+        const uint32_t c0 = uint32_t(s.colors.size());
+        if (colored)
+            for (size_t i = 0; i < nv; ++i) {  // RGB (a VEC4's alpha is not used), clamped to [0, 1]
+                const float* c = &col[size_t(cc) * i];
+                s.colors.push_back(glm::clamp(vec3(finite_or(c[0], 1.f), finite_or(c[1], 1.f), finite_or(c[2], 1.f)),
+                                              vec3(0.f), vec3(1.f)));
+            }
 
         for (uvec3 t : tris) {
             if (bad[t.x] || bad[t.y] || bad[t.z]) {
@@ -314,6 +338,9 @@ void Loader::add_mesh(int mesh_index, const dmat4& world, const std::string& ref
             s.normal_indices.push_back(normals_ok ? uvec3(n0) + t : uvec3(kNoIndex));
             s.uv_indices.push_back(set0.empty() ? uvec3(kNoIndex) : uvec3(t0) + t);
             s.uv1_indices.push_back(uv1.empty() ? uvec3(kNoIndex) : uvec3(t1) + t);
+            s.color_indices.push_back(colored ? uvec3(c0) + t : uvec3(kNoIndex));
+            const bool tangents_ok = !tan.empty() && !bad_t[t.x] && !bad_t[t.y] && !bad_t[t.z];
+            s.tangent_indices.push_back(tangents_ok ? uvec3(g0) + t : uvec3(kNoIndex));
         }
     }
 }
@@ -487,8 +514,6 @@ Scene load(const std::string& bytes, const std::string& file) {
                                  " triangle(s) with non-finite or absurd (> 1e18) vertices dropped");
     if (L.dropped_degenerate)
         scene.warnings.push_back(file + ": " + str(L.dropped_degenerate) + " zero-area triangle(s) dropped");
-    if (L.non_white_colors)
-        scene.warnings.push_back(file + ": COLOR_0 (vertex colours) is not used: pathview has no per-vertex colour");
     scene.stats.dropped_nonfinite = L.dropped_nonfinite;
     scene.stats.dropped_degenerate = L.dropped_degenerate;
     // Per-triangle arrays all-absent are dropped (the scene then pays nothing for them).
@@ -498,6 +523,8 @@ Scene load(const std::string& bytes, const std::string& file) {
     if (all_absent(scene.normal_indices)) scene.normal_indices.clear(), scene.normals.clear();
     if (all_absent(scene.uv_indices)) scene.uv_indices.clear(), scene.uvs.clear();
     if (all_absent(scene.uv1_indices)) scene.uv1_indices.clear(), scene.uvs1.clear();
+    if (all_absent(scene.color_indices)) scene.color_indices.clear(), scene.colors.clear();
+    if (all_absent(scene.tangent_indices)) scene.tangent_indices.clear(), scene.tangents.clear();
     if (scene.triangles.empty()) scene.warnings.push_back(file + ": the scene has no triangles");
     L.convert_cameras();
     if (!scene.has_camera) scene.camera = scene.framing_camera();

@@ -9,11 +9,12 @@
 // counter-clockwise), mesh primitives of mode TRIANGLES, TRIANGLE_STRIP and TRIANGLE_FAN (points and lines are
 // skipped with one warning), accessors of every component type (normalized integers as the specification maps
 // them), byteStride, sparse accessors, data: URIs, external files, a .glb's embedded buffer and images,
-// POSITION, NORMAL, TEXCOORD_0 and TEXCOORD_1. Cameras: the first perspective camera met in the default scene is the
-// start view (its yfov; pathview's own aspect), and every camera a node places is a bookmark named after the camera
-// (else its node). KHR_lights_punctual lights fill Scene::punctual_lights. A file whose extensionsRequired names an
-// extension pathview does not read is refused naming it; an extension only used and not read gets one warning.
-// Materials: see gltf_material() in gltf_loader.cpp and README (metallic-roughness, emission, alpha modes).
+// POSITION, NORMAL, TEXCOORD_0, TEXCOORD_1 and COLOR_0 (Scene::colors). Cameras: the first perspective camera met in
+// the default scene is the start view (its yfov; pathview's own aspect), and every camera a node places is a bookmark
+// named after the camera (else its node). KHR_lights_punctual lights fill Scene::punctual_lights. A file whose
+// extensionsRequired names an extension pathview does not read is refused naming it; an extension only used and not
+// read gets one warning. Materials: see gltf_material() in gltf_loader.cpp and README (metallic-roughness, emission,
+// alpha modes).
 #pragma once
 
 #include <string>

@@ -201,7 +201,32 @@ void Loader::convert_materials() {
                 }
             }
         }
-        if (gm.normalTexture.index >= 0) warn_once("normal texture", "normalTexture is not used yet");
+        // normalTexture (linear data, like the metallicRoughnessTexture), read at the base colour's uvs: used where
+        // its own transform and texCoord are the same.
+        if (gm.normalTexture.index >= 0) {
+            const std::string n_at = at + "/normalTexture";
+            tinygltf::TextureInfo info;
+            info.index = gm.normalTexture.index;
+            info.texCoord = gm.normalTexture.texCoord;
+            info.extensions = gm.normalTexture.extensions;
+            UvTransform nuv;
+            const uint32_t n_tex = texture_of(info, n_at, nuv);
+            if (n_tex != kNoIndex) {
+                if (!(nuv == (base_tex != kNoIndex ? buv : UvTransform{}))) {
+                    warn_once(n_at, n_at +
+                                        ": a texture transform or texCoord other than the base colour's is not "
+                                        "supported; the normal map is not used");
+                } else {
+                    const Texture& src = s.textures[n_tex];
+                    std::vector<vec4> texels = src.texels();
+                    for (vec4& t : texels) t = vec4(linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z), t.w);
+                    s.textures.emplace_back(src.width(), src.height(), std::move(texels));
+                    m.normal_texture = uint32_t(s.textures.size() - 1);
+                    const float sc = finite_or(gm.normalTexture.scale, 1.f);
+                    m.normal_scale = sc;
+                }
+            }
+        }
 
         // Emission: emissiveFactor x KHR_materials_emissive_strength (x emissiveTexture).
         vec3 e(0.f);

@@ -1,9 +1,20 @@
 // core/integrator.cpp: the path tracer (see integrator.h). Structure after pbrt-v4's PathIntegrator::Li.
 #include "core/integrator.h"
 
+#include "core/normal_map.h"
 #include "core/surface.h"
 
 namespace pv {
+
+namespace {
+// Multiplies the diffuse colour (the one set_base_color sets) by `c` in [0, 1]^3: a glTF COLOR_0 over the factor or
+// texel. The products stay within set_base_color's bounds.
+void multiply_base_color(Bsdf& bsdf, vec3 c) {
+    if (auto* l = std::get_if<Lambertian>(&bsdf)) l->albedo *= c;
+    if (auto* g = std::get_if<Glossy>(&bsdf)) g->diffuse *= c;
+    if (auto* m = std::get_if<MetallicRoughness>(&bsdf)) m->base_color *= c;
+}
+}  // namespace
 namespace {
 
 // Power heuristic with beta = 2 (Veach 1997, sec. 9.2.4), written to stay finite for huge pdfs.
@@ -115,6 +126,12 @@ bool PathWalker::step_with() {
                     m_sf = surface_point(scene, hit);
                 m_mat = kPacked ? &ts.materials()[m_record->material()] : &ts.material(hit.prim);
                 const Material& mat = *m_mat;
+                // A normal map tilts the shading normal (materials without one skip this).
+                if (mat.normal_texture != kNoIndex) [[unlikely]] {
+                    const vec2 uv = kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
+                    m_sf.ns = normal_mapped(scene, hit.prim, hit.u, hit.v, m_sf,
+                                            vec3(scene.textures[mat.normal_texture].lookup(uv)), mat.normal_scale);
+                }
                 m_front = glm::dot(-m_ray.d, m_sf.ng) > 0.f;
                 // Emission found by the BSDF-sampled ray; with NEE it is weighted so it is never counted twice.
                 if (TraceableScene::emits(mat, m_front)) {
@@ -133,6 +150,10 @@ bool PathWalker::step_with() {
                 m_metal_rough = mat.metallic_roughness_texture != kNoIndex
                                     ? &scene.textures[mat.metallic_roughness_texture]
                                     : nullptr;
+                // Vertex colours: only scenes that have them test for them, only triangles that have them pay.
+                m_has_color = !scene.color_indices.empty() && scene.color_indices[hit.prim].x != kNoIndex;
+                if (m_has_color) [[unlikely]]
+                    m_color = scene.color_at(hit.prim, hit.u, hit.v);
                 m_stage = Stage::Scatter;
                 if (m_base_color || m_metal_rough) {
                     m_uv = kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
@@ -148,12 +169,15 @@ bool PathWalker::step_with() {
                 const SurfacePoint& sf = m_sf;
                 const vec3 wo_world = -m_ray.d;
                 const Texture* base_color = m_base_color;
+                // The BSDF changes per hit (a texture or vertex colours): it is built by shade() when first needed.
+                const bool per_hit = base_color || m_metal_rough || m_has_color;
                 const Bsdf* bsdf = &mat.bsdf;
                 std::optional<Bsdf> textured;
                 auto shade = [&]() -> const Bsdf& {
-                    if ((base_color || m_metal_rough) && !textured) {
+                    if (per_hit && !textured) {
                         textured.emplace(mat.bsdf);
                         if (base_color) set_base_color(*textured, vec3(base_color->lookup(m_texels)));
+                        if (m_has_color) multiply_base_color(*textured, m_color);
                         if (m_metal_rough)
                             if (auto* mr = std::get_if<MetallicRoughness>(&*textured)) {
                                 const vec4 t = m_metal_rough->lookup(m_uv);
@@ -210,13 +234,13 @@ bool PathWalker::step_with() {
                         // once the shadow ray is traced: its traversal hides the load of the prefetched texels.
                         // Textures apply to reflection-only lobes, black below the surface whatever the colour: no
                         // shadow ray there either (unless a metallic-roughness material transmits).
-                        vec3 f = same_side && !base_color ? eval(*bsdf, wo, wi) : vec3(0.f);
+                        vec3 f = same_side && !per_hit ? eval(*bsdf, wo, wi) : vec3(0.f);
                         bool visible = false;
-                        if (same_side && (base_color ? reflects(wo, wi) || transmits(*bsdf) : !is_black(f))) {
+                        if (same_side && (per_hit ? reflects(wo, wi) || transmits(*bsdf) : !is_black(f))) {
                             const Ray shadow = shadow_ray(origin_toward(ls.wi), ls);
                             ++m_counters.shadow_rays;
                             visible = !ts.occluded(shadow);
-                            if (visible && base_color) f = eval(shade(), wo, wi);
+                            if (visible && per_hit) f = eval(shade(), wo, wi);
                         }
                         if (visible && !is_black(f)) {
                             // The power heuristic's weight over the light pdf, w / p_l = p_l / (p_l^2 + p_b^2): one

@@ -135,6 +135,8 @@ private:
     const Texture* m_metal_rough = nullptr;  // a glTF metallicRoughnessTexture, read at m_uv
     vec2 m_uv{0.f};
     TexelFootprint m_texels;
+    bool m_has_color = false;  // the hit triangle has vertex colours (glTF COLOR_0): m_color multiplies the base colour
+    vec3 m_color{1.f};
 };
 
 // Radiance arriving along `ray` in `scene` (shared read-only by all threads). Uses kBounceDims sampler dimensions

@@ -133,6 +133,10 @@ void hash_material(Hasher& h, const Material& m) {
     h.value(m.base_color_texture);
     h.value(m.alpha_texture);
     if (m.metallic_roughness_texture != kNoIndex) h.value(m.metallic_roughness_texture);  // glTF only
+    if (m.normal_texture != kNoIndex) {                                                   // glTF only
+        h.value(m.normal_texture);
+        h.value(m.normal_scale);
+    }
     if (m.emissive_texture != kNoIndex || !m.emissive_uv.is_identity()) {  // glTF only: OBJ hashes as before
         h.value(m.emissive_texture);
         h.value(m.emissive_uv.col0);
@@ -261,6 +265,14 @@ uint64_t scene_hash(const Scene& scene, const std::vector<Material>& materials, 
     h.vector(scene.uvs);
     h.vector(scene.uv_indices);
     h.vector(scene.material_ids);
+    if (!scene.colors.empty()) {  // vertex colours (glTF COLOR_0) only when present: other scenes hash as before
+        h.vector(scene.colors);
+        h.vector(scene.color_indices);
+    }
+    if (!scene.tangents.empty()) {  // glTF TANGENT only when present
+        h.vector(scene.tangents);
+        h.vector(scene.tangent_indices);
+    }
     if (!scene.uvs1.empty() || !scene.punctual_lights.empty()) {  // glTF only: OBJ scenes hash as before
         h.vector(scene.uvs1);
         h.vector(scene.uv1_indices);

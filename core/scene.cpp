@@ -13,6 +13,9 @@ void Scene::add_triangle(vec3 a, vec3 b, vec3 c, uint32_t material) {
     material_ids.push_back(material);
     if (!normal_indices.empty()) normal_indices.push_back(uvec3(kNoIndex));
     if (!uv_indices.empty()) uv_indices.push_back(uvec3(kNoIndex));
+    if (!uv1_indices.empty()) uv1_indices.push_back(uvec3(kNoIndex));
+    if (!color_indices.empty()) color_indices.push_back(uvec3(kNoIndex));
+    if (!tangent_indices.empty()) tangent_indices.push_back(uvec3(kNoIndex));
 }
 
 bool packs_triangles(const Scene& s, size_t max_triangles) {

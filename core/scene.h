@@ -88,9 +88,16 @@ struct Scene {
     std::vector<vec3> normals;          // unit shading normals (may be empty)
     std::vector<uvec3> normal_indices;  // per triangle, into normals; empty, or kNoIndex where absent
     std::vector<vec2> uvs;
-    std::vector<uvec3> uv_indices;       // per triangle, into uvs; empty, or kNoIndex where absent
-    std::vector<vec2> uvs1;              // a second texture-coordinate set (glTF TEXCOORD_1); usually empty
-    std::vector<uvec3> uv1_indices;      // per triangle, into uvs1; empty, or kNoIndex where absent
+    std::vector<uvec3> uv_indices;   // per triangle, into uvs; empty, or kNoIndex where absent
+    std::vector<vec2> uvs1;          // a second texture-coordinate set (glTF TEXCOORD_1); usually empty
+    std::vector<uvec3> uv1_indices;  // per triangle, into uvs1; empty, or kNoIndex where absent
+    // Linear RGB vertex colours (glTF COLOR_0) multiplying the base colour; empty unless a file has non-white ones.
+    std::vector<vec3> colors;
+    std::vector<uvec3> color_indices;  // per triangle, into colors; empty, or kNoIndex where absent
+    // World-space unit tangents with the bitangent's sign in w (glTF TANGENT: B = w cross(N, T)), for normal maps;
+    // empty unless a file gives them to a normal-mapped primitive (else tangents come from the uvs per triangle).
+    std::vector<vec4> tangents;
+    std::vector<uvec3> tangent_indices;  // per triangle, into tangents; empty, or kNoIndex where absent
     std::vector<uint32_t> material_ids;  // per triangle, into materials
     std::vector<Material> materials;
 
@@ -127,6 +134,13 @@ struct Scene {
         const uvec3 ti = uv_indices[prim];
         if (ti.x == kNoIndex) return vec2(0.f);
         return interpolate_uv(uvs[ti.x], uvs[ti.y], uvs[ti.z], u, v);
+    }
+    // The vertex colour on triangle `prim` at barycentrics (u, v), when it has one (color_indices[prim].x !=
+    // kNoIndex). Written c0 + u (c1 - c0) + v (c2 - c0) so that a uniform colour interpolates to itself bit for bit.
+    vec3 color_at(uint32_t prim, float u, float v) const {
+        const uvec3 ti = color_indices[prim];
+        const vec3 c0 = colors[ti.x];
+        return c0 + u * (colors[ti.y] - c0) + v * (colors[ti.z] - c0);
     }
     // The texture coordinate a texture reference reads at barycentrics (u, v): set 0 or 1, then its transform.
     vec2 texcoord(uint32_t prim, float u, float v, const UvTransform& t) const {

@@ -456,6 +456,80 @@ TEST(GltfLoader, MaterialsFactorsTexturesAlphaModesEmissionAndExtensions) {
 // metallicRoughnessTexture: read as linear data (B metallic, G roughness), and a metallic factor of 1 with a texture
 // keeps the diffuse and specular lobes a texel of metallic 0 needs: the material at a texel equals the untextured
 // material of the texel's parameters.
+TEST(GltfLoader, VertexColorsOfEveryAccessorTypeAreLoadedWhiteOnesNot) {
+    Gltf g;
+    const int pos = g.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    // VEC4 normalized unsigned bytes (alpha not used), VEC3 normalized unsigned shorts, VEC3 floats, all-white floats.
+    const int c8 = g.accessor(g.view(bytes_of<uint8_t>({255, 0, 0, 7, 0, 51, 0, 255, 0, 0, 255, 128})), kUByte, 3,
+                              "VEC4", 0, true);
+    const int c16 = g.accessor(g.view(bytes_of<uint16_t>({65535, 65535, 0, 0, 13107, 0, 0, 0, 65535})), kUShort, 3,
+                               "VEC3", 0, true);
+    const int cf = g.floats({0.25f, 0.5f, 0.75f, 1, 1, 1, 0, 0, 0}, "VEC3", 3);
+    const int cw = g.floats({1, 1, 1, 1, 1, 1, 1, 1, 1}, "VEC3", 3);
+    json nodes = json::array();
+    for (int c : {c8, c16, cf, cw}) nodes.push_back(g.node({{"mesh", g.mesh({{"POSITION", pos}, {"COLOR_0", c}})}}));
+    nodes.push_back(g.node({{"mesh", g.mesh({{"POSITION", pos}})}}));
+    g.scene(nodes);
+    const Scene s = load(g.text(), "colors.gltf");
+    for (const std::string& w : s.warnings) ADD_FAILURE() << w;
+    ASSERT_EQ(s.triangle_count(), 5u);
+    ASSERT_EQ(s.color_indices.size(), 5u);
+    auto corner = [&](size_t t, int k) { return s.colors[s.color_indices[t][k]]; };
+    EXPECT_EQ(corner(0, 0), vec3(1, 0, 0));
+    expect_near(corner(0, 1), vec3(0, 0.2f, 0), 1e-6f);
+    EXPECT_EQ(corner(0, 2), vec3(0, 0, 1));
+    EXPECT_EQ(corner(1, 0), vec3(1, 1, 0));
+    expect_near(corner(1, 1), vec3(0, 0.2f, 0), 1e-6f);
+    EXPECT_EQ(corner(2, 0), vec3(0.25f, 0.5f, 0.75f));
+    EXPECT_EQ(corner(2, 2), vec3(0, 0, 0));
+    // Interpolated at barycentrics (u, v) of corners 1 and 2.
+    expect_near(s.color_at(2, 0.5f, 0.25f), 0.25f * vec3(0.25f, 0.5f, 0.75f) + 0.5f * vec3(1.f), 1e-6f);
+    EXPECT_EQ(s.color_at(0, 0.f, 0.f), vec3(1, 0, 0));
+    // All white, or no COLOR_0: nothing stored, nothing paid per hit.
+    EXPECT_EQ(s.color_indices[3].x, kNoIndex);
+    EXPECT_EQ(s.color_indices[4].x, kNoIndex);
+    EXPECT_EQ(s.colors.size(), 9u);
+    // A file whose colours are all white stores none at all, like an OBJ.
+    Gltf white;
+    const int wp = white.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    const int wc = white.floats({1, 1, 1, 1, 1, 1, 1, 1, 1}, "VEC3", 3);
+    white.scene(json::array({white.node({{"mesh", white.mesh({{"POSITION", wp}, {"COLOR_0", wc}})}})}));
+    const Scene sw = load(white.text(), "white.gltf");
+    EXPECT_TRUE(sw.colors.empty());
+    EXPECT_TRUE(sw.color_indices.empty());
+}
+
+TEST(GltfLoader, NormalTextureIsLinearWithItsScaleAndTangentsFromTheFile) {
+    Gltf g;
+    const uint8_t px[4][4] = {{128, 128, 255, 255}, {255, 128, 128, 255}, {128, 255, 128, 255}, {0, 128, 128, 255}};
+    g.j["images"] = {{{"bufferView", g.view(tga_2x2(px))}, {"mimeType", "image/png"}}};
+    g.j["textures"] = {{{"source", 0}}};
+    g.j["materials"] = {{{"name", "bumpy"}, {"normalTexture", {{"index", 0}, {"scale", 0.5}}}},
+                        {{"name", "bumpy elsewhere"}, {"normalTexture", {{"index", 0}, {"texCoord", 1}}}}};
+    const int pos = g.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    const int uv = g.floats({0, 0, 1, 0, 0, 1}, "VEC2", 2);
+    const int tan = g.floats({1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1}, "VEC4", 4);
+    const int m0 = g.mesh({{"POSITION", pos}, {"TEXCOORD_0", uv}, {"TANGENT", tan}}, -1, -1, 0);
+    // Mirrored in x: the tangent turns to -x and its handedness flips.
+    g.scene(json::array({g.node({{"mesh", m0}}), g.node({{"mesh", m0}, {"scale", {-1, 1, 1}}}),
+                         g.node({{"mesh", g.mesh({{"POSITION", pos}, {"TEXCOORD_0", uv}}, -1, -1, 1)}})}));
+    const Scene s = load(g.text(), "normals.gltf");
+    const Material& m = s.materials[0];
+    ASSERT_NE(m.normal_texture, kNoIndex);
+    EXPECT_EQ(m.normal_scale, 0.5f);
+    const std::vector<vec4> t = s.textures[m.normal_texture].texels();
+    EXPECT_NEAR(t[0].x, 128.f / 255.f, 1e-3f) << "the normal map is data, not sRGB colour";
+    EXPECT_NEAR(t[0].z, 1.f, 1e-3f);
+    // A texCoord other than the base colour's: not used, one warning naming it.
+    EXPECT_EQ(s.materials[1].normal_texture, kNoIndex);
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("/materials/1/normalTexture"), std::string::npos) << s.warnings[0];
+    ASSERT_EQ(s.tangent_indices.size(), 3u);
+    EXPECT_EQ(s.tangents[s.tangent_indices[0].x], vec4(1, 0, 0, 1));
+    EXPECT_EQ(s.tangents[s.tangent_indices[1].x], vec4(-1, 0, 0, -1));
+    EXPECT_EQ(s.tangent_indices[2].x, kNoIndex) << "no TANGENT: from the uvs at the hit";
+}
+
 TEST(GltfLoader, MetallicRoughnessTextureIsLinearAndKeepsTheLobesItsTexelsNeed) {
     Gltf g;
     const uint8_t px[4][4] = {{0, 128, 0, 255}, {0, 255, 255, 255}, {0, 64, 128, 255}, {0, 0, 255, 255}};
@@ -737,7 +811,8 @@ TEST(GltfLoader, ExternalBinAndImageFilesWithPercentEncodedNames) {
 // The OBJ Cornell box as glTF: one primitive per material (baseColorFactor = Kd, metallic 0, KHR_materials_specular
 // factor 0: a pure Lambertian base), the light's Ke as emissiveFactor x KHR_materials_emissive_strength, and the
 // scene file's camera as a camera node.
-Gltf cornell_as_gltf(const Scene& obj, const CameraDesc& cam) {
+// `vertex_colors`: each material's colour is given as a uniform COLOR_0 on its primitive, over a white factor.
+Gltf cornell_as_gltf(const Scene& obj, const CameraDesc& cam, bool vertex_colors = false) {
     Gltf g;
     g.j["extensionsUsed"] = {"KHR_materials_specular", "KHR_materials_emissive_strength"};
     std::vector<float> pos;
@@ -751,10 +826,18 @@ Gltf cornell_as_gltf(const Scene& obj, const CameraDesc& cam) {
                 idx.insert(idx.end(), {obj.triangles[t].x, obj.triangles[t].y, obj.triangles[t].z});
         if (idx.empty()) continue;
         const int ia = g.accessor(g.view(bytes_of(idx)), kUInt, idx.size(), "SCALAR");
-        prims.push_back({{"attributes", {{"POSITION", pa}}}, {"indices", ia}, {"material", m}});
         const vec3 kd = std::get<Lambertian>(obj.materials[m].bsdf).albedo;
+        json attributes = {{"POSITION", pa}};
+        if (vertex_colors) {
+            std::vector<float> col;
+            for (size_t i = 0; i < obj.positions.size(); ++i) col.insert(col.end(), {kd.x, kd.y, kd.z});
+            attributes["COLOR_0"] = g.floats(col, "VEC3", 3);
+        }
+        prims.push_back({{"attributes", attributes}, {"indices", ia}, {"material", m}});
+        const vec3 factor = vertex_colors ? vec3(1.f) : kd;
         json mat = {{"name", obj.materials[m].name},
-                    {"pbrMetallicRoughness", {{"baseColorFactor", {kd.x, kd.y, kd.z, 1.0}}, {"metallicFactor", 0.0}}},
+                    {"pbrMetallicRoughness",
+                     {{"baseColorFactor", {factor.x, factor.y, factor.z, 1.0}}, {"metallicFactor", 0.0}}},
                     {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}};
         const vec3 ke = obj.materials[m].emission;
         if (max_component(ke) > 0.f) {
@@ -807,6 +890,28 @@ TEST(GltfCornellBox, RendersTheObjImageWithinNoiseAndGlbEqualsGltfBitForBit) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (int k = 0; k < 3; ++k) ASSERT_EQ(f_gltf.pixel(x, y).sum[k], f_glb.pixel(x, y).sum[k]) << x << "," << y;
+}
+
+// A uniform COLOR_0 of c over a white base colour renders the image of a base colour factor of c, bit for bit (the
+// same seed: the colour interpolates to itself exactly and multiplies the factor 1).
+TEST(GltfVertexColors, UniformColor0EqualsTheBaseColorFactorBitForBit) {
+    const std::string assets = fs::path(builtin_scene_path()).parent_path().string();
+    const Scene obj_only = load_obj(assets + "/cornell-box.obj");
+    const CameraDesc cam = test::cornell_box()->camera;
+    auto by_factor = std::make_shared<Scene>(load(cornell_as_gltf(obj_only, cam).text(), "factor.gltf"));
+    auto by_color = std::make_shared<Scene>(load(cornell_as_gltf(obj_only, cam, true).text(), "color.gltf"));
+    EXPECT_TRUE(by_factor->colors.empty());
+    ASSERT_EQ(by_color->color_indices.size(), by_color->triangle_count());
+    for (const std::string& w : by_color->warnings) EXPECT_EQ(w.find("COLOR_0"), std::string::npos) << w;
+    RenderSettings rs;
+    rs.seed = 5;
+    const int w = 24, h = 24, spp = 16;
+    const Film a = test::render_with_renderer(by_factor, by_factor->camera, rs, w, h, spp);
+    const Film b = test::render_with_renderer(by_color, by_color->camera, rs, w, h, spp);
+    EXPECT_GT(stats_of(a).total_mean(), 0.01);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int k = 0; k < 3; ++k) ASSERT_EQ(a.pixel(x, y).sum[k], b.pixel(x, y).sum[k]) << x << "," << y;
 }
 
 }  // namespace

@@ -30,6 +30,8 @@ void add_displaced_sphere(Scene& s, vec3 c, float r, float amp, int n_theta, int
     s.material_ids.insert(s.material_ids.end(), added, material);
     if (!s.normal_indices.empty()) s.normal_indices.insert(s.normal_indices.end(), added, uvec3(kNoIndex));
     if (!s.uv_indices.empty()) s.uv_indices.insert(s.uv_indices.end(), added, uvec3(kNoIndex));
+    if (!s.color_indices.empty()) s.color_indices.insert(s.color_indices.end(), added, uvec3(kNoIndex));
+    if (!s.tangent_indices.empty()) s.tangent_indices.insert(s.tangent_indices.end(), added, uvec3(kNoIndex));
 }
 
 std::optional<Scene> generated_scene(const std::string& keyword) {

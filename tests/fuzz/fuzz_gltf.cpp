@@ -28,6 +28,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (!scene.normal_indices.empty() && scene.normal_indices.size() != nt) std::abort();
     if (!scene.uv_indices.empty() && scene.uv_indices.size() != nt) std::abort();
     if (!scene.uv1_indices.empty() && scene.uv1_indices.size() != nt) std::abort();
+    if (!scene.color_indices.empty() && scene.color_indices.size() != nt) std::abort();
     for (size_t i = 0; i < nt; ++i) {
         const pv::uvec3 t = scene.triangles[i];
         for (int k = 0; k < 3; ++k) {
@@ -40,6 +41,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                 std::abort();
             if (!scene.uv1_indices.empty() && scene.uv1_indices[i][k] != pv::kNoIndex &&
                 scene.uv1_indices[i][k] >= scene.uvs1.size())
+                std::abort();
+            if (!scene.color_indices.empty() && scene.color_indices[i][k] != pv::kNoIndex &&
+                scene.color_indices[i][k] >= scene.colors.size())
                 std::abort();
         }
         if (scene.material_ids[i] >= scene.materials.size()) std::abort();

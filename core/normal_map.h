@@ -1,0 +1,66 @@
+// core/normal_map.h: a glTF normalTexture applied to a surface point's shading normal (the integrator's only caller;
+// materials without a normal map never reach it).
+#pragma once
+
+#include <cmath>
+
+#include "core/scene.h"
+#include "core/surface.h"
+
+namespace pv {
+
+// The shading normal a normal-map texel (linear, in [0, 1]^3) gives on triangle `prim` at barycentrics (u, v):
+// n = normalize(T x scale + B y scale + N z), (x, y, z) = 2 texel - 1, N the surface point's shading normal.
+// T and B: the file's TANGENT interpolated (B = w cross(N, T)), else the triangle's dp/du and dp/dv from its set-0
+// uvs (pathview's v-up uvs: B points up the image, as glTF's tangent space has it), else (no uvs, or degenerate
+// ones) any frame about N. The result is on ng's side, like every shading normal: one below the surface, or degenerate,
+// leaves N.
+inline vec3 normal_mapped(const Scene& s, uint32_t prim, float u, float v, const SurfacePoint& sf, vec3 texel,
+                          float scale) {
+    const vec3 N = sf.ns;
+    const float x = (2.f * texel.x - 1.f) * scale, y = (2.f * texel.y - 1.f) * scale, z = 2.f * texel.z - 1.f;
+    if (x == 0.f && y == 0.f && z > 0.f) return N;  // a flat texel: N itself, bit for bit
+    vec3 T(0.f), B(0.f);
+    bool have = false;
+    if (!s.tangent_indices.empty() && s.tangent_indices[prim].x != kNoIndex) {
+        const uvec3 ti = s.tangent_indices[prim];
+        const vec4 t0 = s.tangents[ti.x];
+        const vec3 t = sf.b0 * vec3(t0) + u * vec3(s.tangents[ti.y]) + v * vec3(s.tangents[ti.z]);
+        const vec3 to = t - N * glm::dot(N, t);
+        const float l2 = glm::dot(to, to);
+        if (l2 > 1e-12f && std::isfinite(l2)) {
+            T = to / std::sqrt(l2);
+            B = (t0.w < 0.f ? -1.f : 1.f) * glm::cross(N, T);
+            have = true;
+        }
+    }
+    if (!have && !s.uv_indices.empty() && s.uv_indices[prim].x != kNoIndex) {
+        const uvec3 t = s.triangles[prim], ti = s.uv_indices[prim];
+        const vec3 e1 = s.positions[t.y] - s.positions[t.x], e2 = s.positions[t.z] - s.positions[t.x];
+        const vec2 d1 = s.uvs[ti.y] - s.uvs[ti.x], d2 = s.uvs[ti.z] - s.uvs[ti.x];
+        const float det = d1.x * d2.y - d1.y * d2.x;
+        if (std::fabs(det) > 1e-12f && std::isfinite(det)) {
+            const vec3 dpdu = (d2.y * e1 - d1.y * e2) / det, dpdv = (d1.x * e2 - d2.x * e1) / det;
+            const vec3 to = dpdu - N * glm::dot(N, dpdu);
+            const float l2 = glm::dot(to, to);
+            if (l2 > 1e-12f && std::isfinite(l2)) {
+                T = to / std::sqrt(l2);
+                B = glm::cross(N, T);
+                if (glm::dot(B, dpdv) < 0.f) B = -B;  // uvs mirrored: the bitangent follows v
+                have = true;
+            }
+        }
+    }
+    if (!have) {  // no usable uvs: any frame about N (the map's tilt then has no defined azimuth)
+        const vec3 a = std::fabs(N.x) > 0.9f ? vec3(0.f, 1.f, 0.f) : vec3(1.f, 0.f, 0.f);
+        T = glm::normalize(glm::cross(a, N));
+        B = glm::cross(N, T);
+    }
+    const vec3 n = T * x + B * y + N * z;
+    const float l2 = glm::dot(n, n);
+    if (!(l2 > 1e-12f) || !std::isfinite(l2)) return N;
+    const vec3 ns = n / std::sqrt(l2);
+    return glm::dot(ns, sf.ng) > 0.f ? ns : N;  // tilted below the surface: the interpolated normal
+}
+
+}  // namespace pv
