@@ -14,8 +14,6 @@ void multiply_base_color(Bsdf& bsdf, vec3 c) {
     if (auto* g = std::get_if<Glossy>(&bsdf)) g->diffuse *= c;
     if (auto* m = std::get_if<MetallicRoughness>(&bsdf)) m->base_color *= c;
 }
-}  // namespace
-namespace {
 
 // Power heuristic with beta = 2 (Veach 1997, sec. 9.2.4), written to stay finite for huge pdfs.
 inline float power_heuristic(float pa, float pb) {
