@@ -421,7 +421,12 @@ inline TexelFootprint Texture::footprint(vec2 uv) const {
     const float fx = std::floor(x), fy = std::floor(y);
     fp.tx = x - fx;
     fp.ty = y - fy;
-    const long long ix = static_cast<long long>(fx), iy = static_cast<long long>(fy);
+    // A finite uv can be beyond the range of long long (a file's uvs or transform): such a float is a whole number,
+    // and fmod reduces it exactly to the same residue, so the wrap is still the modulo.
+    const auto whole = [](float f, int n) {
+        return static_cast<long long>(std::fabs(f) < 0x1p62f ? f : std::fmod(f, float(n)));
+    };
+    const long long ix = whole(fx, m_width), iy = whole(fy, m_height);
     const size_t x0 = wrap_texel_index(ix, m_width, m_wrap_x), x1 = x0 + 1 == size_t(m_width) ? 0 : x0 + 1;
     const size_t y0 = wrap_texel_index(iy, m_height, m_wrap_y), y1 = y0 + 1 == size_t(m_height) ? 0 : y0 + 1;
     if (m_blocks) {

@@ -95,6 +95,39 @@ TEST(TextureStorage, WrapIsTheModuloForEverySizeAndIndex) {
     }
 }
 
+// A finite uv beyond the range of long long (3e23 from a damaged glTF, found by fuzz_gltf) wraps as the modulo of
+// its whole-number texel coordinate: lookups equal the reference computed with exact double arithmetic. (The cast to
+// long long was undefined behaviour there; UBSan stops the ASan suite on it.)
+TEST(TextureStorage, UvsBeyondTheRangeOfLongLongWrapAsTheModulo) {
+    const int w = 7, h = 5;
+    Pcg32 rng(11, 12);
+    const std::vector<vec4> texels = [&] {
+        std::vector<vec4> t(size_t(w) * size_t(h));
+        for (vec4& v : t) v = vec4(rng.next_float(), rng.next_float(), rng.next_float(), 1.f);
+        return t;
+    }();
+    const Texture tex(w, h, texels);
+    auto wrap = [](double f, int n) {
+        const double r = std::fmod(f, double(n));
+        return static_cast<size_t>(r < 0 ? r + n : r);
+    };
+    for (const float u : {-3.3802e23f, 3.3802e23f, 1e30f, -1e30f, 9.3e18f, -9.3e18f, 4.8e37f, -4.8e37f}) {
+        for (const float v : {0.25f, u}) {
+            const vec4 got = tex.lookup(vec2(u, v));
+            // Beyond 2^24 a texel coordinate is a whole float (its fraction is 0); the reference wraps it in
+            // double, where fmod is exact, and blends the four texels as reference_lookup does.
+            const float x = u * float(w) - 0.5f, y = (1.f - v) * float(h) - 0.5f;
+            ASSERT_TRUE(std::isfinite(x) && std::isfinite(y));
+            const float fx = std::floor(x), fy = std::floor(y), tx = x - fx, ty = y - fy;
+            const size_t x0 = wrap(fx, w), x1 = (x0 + 1) % size_t(w), y0 = wrap(fy, h), y1 = (y0 + 1) % size_t(h);
+            const size_t W = size_t(w);
+            const vec4 ref = (1.f - ty) * ((1.f - tx) * texels[y0 * W + x0] + tx * texels[y0 * W + x1]) +
+                             ty * ((1.f - tx) * texels[y1 * W + x0] + tx * texels[y1 * W + x1]);
+            for (int c = 0; c < 4; ++c) EXPECT_TRUE(same_bits(got[c], ref[c])) << "u " << u << " v " << v << " c " << c;
+        }
+    }
+}
+
 // Random texels that are all 8-bit codes (colour sRGB, alpha linear), row-major.
 std::vector<vec4> random_code_texels(int w, int h, Pcg32& rng) {
     std::vector<vec4> texels(size_t(w) * size_t(h));
