@@ -36,8 +36,9 @@ inline float sqr(float x) { return x * x; }
     if (!is_finite(v)) return vec3(0.f);
     const float m = max_component(glm::abs(v));
     if (!(m > 0.f)) return vec3(0.f);
-    const vec3 s = v * (1.f / m);
-    return s * (1.f / std::sqrt(glm::dot(s, s)));
+    // A division, not v * (1 / m): for m near FLT_MAX, 1 / m is subnormal and the renderer's threads flush it to 0.
+    const vec3 s = v / m;
+    return s / std::sqrt(glm::dot(s, s));
 }
 
 // v / |v|, also where |v|^2 overflows or underflows float (huge or tiny triangles): v is then rescaled by its
