@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "camera_controller.h"
+#include "compare.h"
 #include "convergence.h"
 #include "core/environment.h"
 #include "core/renderer.h"
@@ -56,6 +57,8 @@ struct PanelFacts {
     int level = 1;                        // render resolution divisor (4, 2 or 1)
     bool minimised = false;
     double frame_ms = 0.0;  // the UI's last frame
+    const Compare* compare = nullptr;
+    bool compare_camera_moved = false;  // B was held from another camera
 };
 
 // What the user asked for in this frame.
@@ -74,6 +77,7 @@ struct PanelActions {
     int goto_bookmark = -1;       // index into ViewState::bookmarks
     std::string save_bookmark;    // non-empty: save the current camera under this name
     bool region_changed = false;  // ViewState::region set or cleared
+    CompareActions compare;       // hold B, compare views, divider, load an EXR as B
 };
 
 class Panel {
@@ -93,6 +97,7 @@ private:
     void scene(ViewState& state, PanelActions& act);
     void lighting(ViewState& state, PanelActions& act);
     void bookmarks(ViewState& state, PanelActions& act);
+    void compare(const PanelFacts& facts, PanelActions& act);
     // Logs the centre of the last item, once per position change (the GUI test clicks it).
     void log_widget(const char* name);
 
@@ -100,6 +105,11 @@ private:
     std::map<std::string, std::pair<int, int>> m_logged;
     char m_scene_path[1024] = {};  // the Scene section's text field
     char m_bookmark_name[128] = "view 1";
+    char m_compare_path[1024] = {};  // the Compare section's EXR path
 };
+
+// Labels the compare views on the image (A and B either side of the split's divider, "B", the difference's scale)
+// with ImGui's background draw list; `image_w` x `image_h`: the image region in window pixels.
+void draw_compare_overlay(const Compare& compare, bool camera_moved, float image_w, float image_h);
 
 }  // namespace pv::ui

@@ -12,10 +12,12 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cstdio>
 
 #include "active_scene.h"
 #include "bookmarks.h"
 #include "camera_controller.h"
+#include "compare.h"
 #include "core/scene_file.h"
 #include "display.h"
 #include "frame_stats.h"
@@ -50,6 +52,9 @@ private:
     LoadedScene load_first_scene();
     // Adopts a finished background load (the panel's "Load"); on failure the current scene stays.
     void poll_loading(double now);
+    // The compare views (compare.h): applies the frame's actions, keeps B's texture and the difference current.
+    void update_compare(const CompareActions& act);
+    void upload_difference();
 
     // Members are destroyed in reverse order: loads, writes and render threads end before the GL context goes.
     const ViewerOptions& m_opt;
@@ -66,6 +71,7 @@ private:
     Navigation m_navigation{m_log};
     RefinementSchedule m_schedule;
     ShownImage m_image;
+    Compare m_compare;
     FrameStats m_frame_stats;
     ViewState m_state;
 
@@ -90,6 +96,11 @@ Viewer::Viewer(const ViewerOptions& o)
     m_state.snapshot_dir = o.snapshot_dir;
     m_state.scene_path = first.scene->source;
     use_scene(std::move(first));
+    if (o.compare_image) {
+        m_compare.set_b(*o.compare_image, o.compare_path);
+        m_display->upload_b(m_compare.b());
+        m_log.line("compare %s", m_compare.status().c_str());
+    }
     m_log.line("start scene=%s triangles=%zu threads=%d gl=\"%s\" refresh_hz=%.0f", m_scene.scene().source.c_str(),
                m_scene.scene().triangle_count(), m_renderer->threads(),
                reinterpret_cast<const char*>(glGetString(GL_RENDERER)), m_window.refresh_hz());
@@ -170,6 +181,8 @@ bool Viewer::wait_for_work() {
     bool work = continuous || m_input.any || m_schedule.deferral_expired(glfwGetTime());
     if (m_image.update([this](Snapshot& s) { return m_renderer->latest(s); })) {
         m_display->upload(m_image.displayed(), m_state.display.denoise);
+        m_compare.update(m_image.shown());
+        upload_difference();
         work = true;
     }
     if (m_snapshots.save_partial(m_renderer->take_partial(), m_state)) work = true;
@@ -212,11 +225,16 @@ int Viewer::run() {
         facts.full_height = m_full_h;
         facts.level = m_schedule.level();
         facts.frame_ms = m_frame_stats.last_ms();
+        facts.compare = &m_compare;
+        facts.compare_camera_moved = m_compare.camera_moved(m_camera->desc());
         PanelActions act = m_panel.draw(m_state, *m_camera, facts, kPanelWidth);
+        draw_compare_overlay(m_compare, facts.compare_camera_moved, float(m_full_w) / m_fb_scale,
+                             float(m_full_h) / m_fb_scale);
         if (m_state.display.denoise != m_denoising) {  // a display change: the accumulation is not restarted
             m_denoising = m_state.display.denoise;
             m_renderer->set_denoise(m_denoising);
             m_display->upload(m_image.displayed(), m_denoising);
+            upload_difference();
             m_log.line("denoise %d", int(m_denoising));
         }
 
@@ -233,6 +251,7 @@ int Viewer::run() {
             m_scene.load_started(m_state);
         poll_loading(start);
         handle_bookmarks(act, m_state, m_camera->desc(), m_scene.scene().source, m_log);
+        update_compare(act.compare);
 
         // 4. Restart the accumulation on a change (a new image size included), or refine at rest.
         const int region_w = std::max(fb_w - panel_fb, 1);
@@ -252,6 +271,8 @@ int Viewer::run() {
         glViewport(0, 0, fb_w, fb_h);
         glClearColor(0.08f, 0.08f, 0.08f, 1.f);
         glClear(GL_COLOR_BUFFER_BIT);
+        m_state.display.compare = m_compare.view();
+        m_state.display.divider = m_compare.divider();
         m_display->draw(0, 0, m_full_w, m_full_h, m_state.display);
 
         // 6. The panel on top; swap.
@@ -265,6 +286,29 @@ int Viewer::run() {
     }
     m_log.line("exit frames=%d", m_frame_stats.total_frames());
     return 0;
+}
+
+void Viewer::update_compare(const CompareActions& act) {
+    const std::string status = m_compare.status();
+    const std::string source = m_compare.source();
+    const CompareView view = m_compare.view();
+    if (!m_compare.apply(act, m_image.displayed(), m_denoising, m_camera->desc(), m_full_w, m_full_h)) return;
+    if (m_compare.source() != source || act.hold || !act.load.empty()) m_display->upload_b(m_compare.b());
+    upload_difference();
+    if (m_compare.status() != status || act.hold || !act.load.empty()) {
+        m_log.line("compare %s", m_compare.status().c_str());
+        if (!m_compare.ok()) std::fprintf(stderr, "%s\n", m_compare.status().c_str());
+    }
+    if (m_compare.view() != view) m_log.line("compare view=%s", compare_view_name(m_compare.view()));
+    m_compare.update(m_image.shown());
+}
+
+void Viewer::upload_difference() {
+    if (m_compare.view() != CompareView::Difference) return;
+    const Snapshot& a = m_image.displayed();
+    const bool denoised = m_denoising && a.denoised.size() == a.rgb.size();
+    m_display->upload_difference(m_compare.difference((denoised ? a.denoised : a.rgb).data(), a.width, a.height),
+                                 a.width, a.height);
 }
 
 NavigationFrame Viewer::navigation_frame(double dt) const {
