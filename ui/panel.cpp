@@ -1,5 +1,5 @@
 // ui/panel.cpp: the panel's sections, top to bottom: warnings, progress, convergence, estimator, display,
-// light, camera (with bookmarks), materials, snapshots, scene.
+// snapshot, compare, light, camera (with bookmarks), materials, scene.
 #include "panel.h"
 
 #include <imgui.h>
@@ -92,12 +92,12 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
 
     if (ImGui::CollapsingHeader("Progress", ImGuiTreeNodeFlags_DefaultOpen)) progress(state, facts, act);
     if (ImGui::CollapsingHeader("Convergence", ImGuiTreeNodeFlags_DefaultOpen)) convergence(facts);
-    const bool compare_open = ImGui::CollapsingHeader("Compare", ImGuiTreeNodeFlags_DefaultOpen);
-    log_widget("compare_header");
-    if (compare_open) compare(facts, act);
     if (ImGui::CollapsingHeader("Estimator", ImGuiTreeNodeFlags_DefaultOpen)) estimator(state, facts, act);
     if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) display(state, facts);
     if (ImGui::CollapsingHeader("Snapshot", ImGuiTreeNodeFlags_DefaultOpen)) snapshots(state, act);
+    const bool compare_open = ImGui::CollapsingHeader("Compare", ImGuiTreeNodeFlags_DefaultOpen);
+    log_widget("compare_header");
+    if (compare_open) compare(facts, act);
     const bool light_open = ImGui::CollapsingHeader("Light");
     log_widget("light_header");
     if (light_open) lighting(state, act);
