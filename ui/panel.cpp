@@ -87,6 +87,7 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     ImGui::TextWrapped("%s: %zu triangles", facts.scene_name.c_str(), facts.triangles);
     for (const std::string& w : facts.warnings) ImGui::TextColored(kWarningColour, "warning: %s", w.c_str());
+    if (!state.drop_status.empty()) status_text(state.drop_status, state.drop_ok);
     if (state.settings.max_depth < RenderSettings{}.max_depth)
         ImGui::TextColored(kWarningColour, "max depth %d truncates paths (biased)", state.settings.max_depth);
 
@@ -436,7 +437,10 @@ void Panel::snapshots(ViewState& state, PanelActions& act) {
 }
 
 void Panel::scene(ViewState& state, PanelActions& act) {
-    if (m_scene_path[0] == 0) std::snprintf(m_scene_path, sizeof m_scene_path, "%s", state.scene_path.c_str());
+    if (m_scene_path[0] == 0 || state.scene_path != m_field_scene_path) {  // at start, or a scene was dropped
+        std::snprintf(m_scene_path, sizeof m_scene_path, "%s", state.scene_path.c_str());
+        m_field_scene_path = state.scene_path;
+    }
     ImGui::SetNextItemWidth(-FLT_MIN);
     const bool entered =
         ImGui::InputText("##scene", m_scene_path, sizeof m_scene_path, ImGuiInputTextFlags_EnterReturnsTrue);

@@ -35,7 +35,9 @@ struct ViewState {
     std::string scene_path;  // the scene to load (Scene section)
     std::string scene_status;
     bool scene_ok = true;
-    bool scene_loading = false;       // a load runs in the background
+    bool scene_loading = false;  // a load runs in the background
+    std::string drop_status;     // the last file dropped on the window: loading, loaded, or what failed
+    bool drop_ok = true;
     EnvironmentSettings environment;  // sky, map rotation/strength, sun (Light section)
     bool has_environment_map = false;
     std::vector<Scene::Bookmark> bookmarks;  // saved with the scene file (Camera section)
@@ -103,7 +105,8 @@ private:
 
     ViewLog& m_log;
     std::map<std::string, std::pair<int, int>> m_logged;
-    char m_scene_path[1024] = {};  // the Scene section's text field
+    char m_scene_path[1024] = {};    // the Scene section's text field
+    std::string m_field_scene_path;  // state.scene_path when the field was last set from it
     char m_bookmark_name[128] = "view 1";
     char m_compare_path[1024] = {};  // the Compare section's EXR path
 };

@@ -13,6 +13,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <optional>
+#include <utility>
 
 #include "active_scene.h"
 #include "bookmarks.h"
@@ -20,6 +22,7 @@
 #include "compare.h"
 #include "core/scene_file.h"
 #include "display.h"
+#include "drop.h"
 #include "frame_stats.h"
 #include "navigation.h"
 #include "panel.h"
@@ -54,6 +57,8 @@ private:
     void poll_loading(double now);
     // The compare views (compare.h): applies the frame's actions, keeps B's texture and the difference current.
     void update_compare(const CompareActions& act);
+    // Files dropped on the window (drop.h): a scene loads as the Scene section's "Load"; an image becomes the map.
+    void handle_drops();
     void upload_difference();
 
     // Members are destroyed in reverse order: loads, writes and render threads end before the GL context goes.
@@ -80,7 +85,8 @@ private:
     double m_last_frame = -1.0;
     int m_settle_frames = 0;
     bool m_minimised = false;
-    bool m_denoising = false;  // the driver's denoising, as last set from m_state.display.denoise
+    bool m_denoising = false;                   // the driver's denoising, as last set from m_state.display.denoise
+    std::optional<DropRequest> m_drop_loading;  // the drop that started the background load
 };
 
 Viewer::Viewer(const ViewerOptions& o)
@@ -136,14 +142,56 @@ void Viewer::use_scene(LoadedScene loaded) {
 
 void Viewer::poll_loading(double now) {
     if (!m_loader.ready()) return;
+    const std::optional<DropRequest> dropped = std::exchange(m_drop_loading, std::nullopt);
     try {
         use_scene(m_loader.take());
     } catch (const std::exception& e) {
         m_scene.load_failed(m_state, e.what());
+        if (dropped) {
+            m_state.drop_status = e.what();
+            m_state.drop_ok = false;
+            std::fprintf(stderr, "%s\n", e.what());
+        }
         return;
     }
     m_scene.load_succeeded(m_state);
+    if (dropped) {
+        m_state.drop_status =
+            (dropped->kind == DropKind::Scene ? "loaded scene " : "loaded environment map ") + dropped->path;
+        m_state.drop_ok = true;
+        m_log.line("drop %s", m_state.drop_status.c_str());
+    }
     post(m_schedule.coarse("scene", now), false, false, now);
+}
+
+void Viewer::handle_drops() {
+    if (m_input.dropped.empty()) return;
+    const DropRequest d = dispatch_drop(m_input.dropped);
+    m_input.dropped.clear();
+    m_state.drop_status = d.message;
+    m_state.drop_ok = d.kind != DropKind::Unknown;
+    if (d.kind != DropKind::Unknown && m_loader.busy()) {
+        m_state.drop_status = d.path + ": not loaded, another load is running; drop it again when that ends";
+        m_state.drop_ok = false;
+    } else if (d.kind == DropKind::Scene) {
+        m_state.scene_path = d.path;
+        if (m_loader.start([path = d.path] { return pv::load_scene(path); }, m_opt.threads)) {
+            m_scene.load_started(m_state);
+            m_drop_loading = d;
+        }
+    } else if (d.kind == DropKind::EnvironmentMap) {
+        // The current scene with the new map, rebuilt off the UI thread like a loaded scene; the view stays.
+        auto load = [scene = m_scene.shared(), path = d.path, camera = m_camera->desc(), materials = m_state.materials,
+                     environment = m_state.environment] {
+            return with_environment_map(*scene, path, camera, materials, environment);
+        };
+        if (m_loader.start(load, m_opt.threads)) {
+            m_state.scene_loading = true;
+            m_drop_loading = d;
+        }
+    }
+    m_log.line("drop %s", m_state.drop_status.c_str());
+    if (!m_state.drop_ok) std::fprintf(stderr, "%s\n", m_state.drop_status.c_str());
 }
 
 bool Viewer::wait_for_work() {
@@ -249,6 +297,7 @@ int Viewer::run() {
         if (act.load_scene &&
             m_loader.start([path = m_state.scene_path] { return pv::load_scene(path); }, m_opt.threads))
             m_scene.load_started(m_state);
+        handle_drops();
         poll_loading(start);
         handle_bookmarks(act, m_state, m_camera->desc(), m_scene.scene().source, m_log);
         update_compare(act.compare);
