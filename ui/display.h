@@ -21,9 +21,10 @@ struct DisplayParams {
     float exposure = 0.f;  // stops
     ToneMap tone_map = ToneMap::Aces;
     View view = View::Colour;
-    // Show the snapshot's a-trous denoised image (Snapshot::denoised) in the colour view when there is one. The
-    // viewer turns the driver's denoising on and off with it; the accumulation is never touched.
-    bool denoise = false;
+    // Show the snapshot's a-trous denoised image (Snapshot::denoised) in the colour view when there is one (the
+    // default, coarse passes included); off: the raw accumulation (key N). The viewer turns the driver's denoising
+    // on and off with it; the accumulation and the error readouts are never touched.
+    bool denoise = true;
     // The comparison with a held image B (compare.h); the viewer copies it from its Compare each frame.
     CompareView compare = CompareView::Off;
     float divider = 0.5f;  // split view: A left of this fraction of the width, B right of it

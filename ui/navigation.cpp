@@ -74,6 +74,10 @@ NavigationResult Navigation::handle(InputQueue& input, const NavigationFrame& fr
             act.region_changed = true;
             m_log.line("action region cleared");
         }
+        if (key == GLFW_KEY_N) {
+            state.display.denoise = !state.display.denoise;
+            m_log.line("action show %s", state.display.denoise ? "denoised" : "raw");
+        }
         if (key == GLFW_KEY_B) act.compare.hold = true;
         if (key == GLFW_KEY_C) act.compare.cycle = true;
         if (key == GLFW_KEY_V) act.compare.flip = true;

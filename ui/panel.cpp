@@ -118,6 +118,15 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
     return act;
 }
 
+std::string shown_image(const ViewState& state, const Snapshot* s) {
+    if (state.display.view != View::Colour) return "false colour (raw)";
+    if (!state.display.denoise) return "RAW";
+    if (!s || s->denoised.empty()) return "RAW (denoising...)";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "DENOISED at %u/%u spp", s->denoised_spp, s->spp);
+    return buf;
+}
+
 void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& act) {
     const Snapshot& s = *facts.snapshot;
     const double secs = std::max(s.seconds, 1e-9);
@@ -131,7 +140,9 @@ void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& ac
         : state.paused     ? "paused"
         : s.target_reached ? (s.active_fraction == 0.0 ? "noise threshold reached: stopped" : "target reached: stopped")
                            : "rendering";
-    ImGui::Text("status: %s", status);
+    // Always said: the denoised image or the raw accumulation (N toggles; the errors are the raw estimator's).
+    ImGui::TextWrapped("status: %s; shown: %s", status, shown_image(state, facts.snapshot).c_str());
+    log_widget("status");
     ImGui::SetNextItemWidth(100.f);
     if (ImGui::InputInt("target spp", &state.target_spp, 16, 256)) {
         state.target_spp = std::max(state.target_spp, 0);
@@ -180,9 +191,9 @@ void Panel::convergence(const PanelFacts& facts) {
     const Snapshot& s = *facts.snapshot;
     const ConvergenceHistory& h = *facts.history;
     if (s.rel_mse > 0.0 && h.size() >= 4)
-        ImGui::Text("est. relMSE %.3e   slope %.2f (ideal -1)", s.rel_mse, h.slope_vs_spp());
+        ImGui::Text("est. relMSE (raw) %.2e  slope %.2f (ideal -1)", s.rel_mse, h.slope_vs_spp());
     else if (s.rel_mse > 0.0)
-        ImGui::Text("est. relMSE %.3e", s.rel_mse);
+        ImGui::Text("est. relMSE (raw) %.3e", s.rel_mse);
     else
         ImGui::TextDisabled("est. relMSE: from 2 spp (even/odd halves)");
     float lo = 0.f, hi = 0.f;
@@ -343,14 +354,14 @@ void Panel::bookmarks(ViewState& state, PanelActions& act) {
 
 void Panel::display(ViewState& state, const PanelFacts& facts) {
     DisplayParams& d = state.display;
-    ImGui::Checkbox("denoise (a-trous, display only)", &d.denoise);
+    ImGui::Checkbox("denoised display (N; off: raw accumulation)", &d.denoise);
     log_widget("denoise");
     if (d.denoise && facts.snapshot) {
         const Snapshot& s = *facts.snapshot;
         if (s.denoised.empty())
             ImGui::TextDisabled("denoising ...");
         else
-            ImGui::TextWrapped("showing: DENOISED, %u of %u spp, %.0f ms (the errors above are the noisy image's)",
+            ImGui::TextWrapped("a-trous, %u of %u spp, %.0f ms a pass (the errors above are the raw estimator's)",
                                s.denoised_spp, s.spp, s.denoise_ms);
     }
     ImGui::SliderFloat("exposure", &d.exposure, -10.f, 10.f, "%+.1f stops");

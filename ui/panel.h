@@ -111,6 +111,9 @@ private:
     char m_compare_path[1024] = {};  // the Compare section's EXR path
 };
 
+// What the image shown is: "DENOISED at 9/9 spp", "RAW", "RAW (denoising...)" or "false colour (raw)".
+std::string shown_image(const ViewState& state, const Snapshot* snapshot);
+
 // Labels the compare views on the image (A and B either side of the split's divider, "B", the difference's scale)
 // with ImGui's background draw list; `image_w` x `image_h`: the image region in window pixels.
 void draw_compare_overlay(const Compare& compare, bool camera_moved, float image_w, float image_h);

@@ -101,6 +101,7 @@ Viewer::Viewer(const ViewerOptions& o)
     m_state.adaptive = o.adaptive;
     m_state.snapshot_dir = o.snapshot_dir;
     m_state.scene_path = first.scene->source;
+    m_denoising = m_state.display.denoise;  // denoised by default: the first passes are filtered too
     use_scene(std::move(first));
     if (o.compare_image) {
         m_compare.set_b(*o.compare_image, o.compare_path);
@@ -229,6 +230,8 @@ bool Viewer::wait_for_work() {
     bool work = continuous || m_input.any || m_schedule.deferral_expired(glfwGetTime());
     if (m_image.update([this](Snapshot& s) { return m_renderer->latest(s); })) {
         m_display->upload(m_image.displayed(), m_state.display.denoise);
+        m_frame_stats.pass_shown(m_state.display.denoise && !m_image.displayed().denoised.empty() &&
+                                 m_image.displayed().denoised_spp == m_image.displayed().spp);
         m_compare.update(m_image.shown());
         upload_difference();
         work = true;
