@@ -1,6 +1,7 @@
 // app/cmd_view.cpp: `pathview view` (the default subcommand): the interactive viewer (ui/viewer.h).
 #include "app/commands.h"
 #include "core/error.h"
+#include "core/image_io.h"
 #include "core/scene_file.h"
 
 #ifdef PATHVIEW_HAS_UI
@@ -17,6 +18,7 @@ struct ViewOptions {
     CommonOptions common;
     std::string snapshot_dir = ".";
     std::string log_file;
+    std::string compare;  // an EXR shown as B of the compare views
 };
 
 void run(const ViewOptions& o) {
@@ -37,6 +39,16 @@ void run(const ViewOptions& o) {
     v.threads = o.common.threads;
     v.snapshot_dir = o.snapshot_dir;
     v.log_file = o.log_file;
+    if (!o.compare.empty()) {
+        // Read before the window opens: an unreadable or wrong-size file is one line and a non-zero exit.
+        auto b = std::make_shared<Image>(read_exr(o.compare));
+        if (b->width != o.common.width || b->height != o.common.height)
+            throw Error("--compare " + o.compare + ": " + std::to_string(b->width) + "x" + std::to_string(b->height) +
+                        " pixels; expected the image's " + std::to_string(o.common.width) + "x" +
+                        std::to_string(o.common.height) + " (--width, --height)");
+        v.compare_image = std::move(b);
+        v.compare_path = o.compare;
+    }
     ui::run_viewer(v);
 #else
     (void)o;
@@ -51,6 +63,9 @@ void add_view_command(CLI::App& app, CLI::App*& view_cmd) {
     view_cmd = app.add_subcommand("view", "Open the interactive viewer (the default)");
     add_common_options(*view_cmd, o->common);
     view_cmd->add_option("--snapshot-dir", o->snapshot_dir, "Folder for EXR snapshots (Ctrl+S)")->capture_default_str();
+    view_cmd->add_option("--compare", o->compare,
+                         "Show this EXR as B of the compare views (split, flip, difference) with the live relMSE "
+                         "against it; it must have the image's size");
     view_cmd->add_option("--log-file", o->log_file,
                          "Log restarts (with reasons), snapshots and timings to this file, one line each");
     view_cmd->callback([o] {

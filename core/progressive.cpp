@@ -286,11 +286,14 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
         m_features_width = film.width();
         m_features_height = film.height();
     }
+    // The filter's own time sets the throttle: the feature pass above runs once per generation, and counting it
+    // made the second pass of every accumulation (each coarse pass while orbiting) go undenoised.
+    const auto filter_start = std::chrono::steady_clock::now();
     m_atrous.denoise(film.mean(), film.variance_of_mean(), m_denoised_image);
     m_denoised_generation = generation;
     m_denoised_spp = spp;
     m_denoise_end = std::chrono::steady_clock::now();
-    m_denoise_seconds = std::chrono::duration<double>(m_denoise_end - now).count();
+    m_denoise_seconds = std::chrono::duration<double>(m_denoise_end - filter_start).count();
 }
 
 void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool force_denoise) {

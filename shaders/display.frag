@@ -1,6 +1,8 @@
 // shaders/display.frag: shows the linear accumulation. Colour view: exposure (stops), a tone map, then the sRGB
 // transfer function (the framebuffer is not sRGB, so ImGui's colours stay as they are). False-colour views map
 // the per-pixel relative error (log scale) or the sample count through the Turbo colour map.
+// Compare views (ui/compare.h): A | B split at a divider, B alone (tone-mapped as A), or |A - B| / (B + eps)
+// (computed on the CPU) in false colour on the relative error's log scale.
 // Textures hold rows from the top of the image down, so the image's top is t = 0.
 #version 330 core
 
@@ -14,6 +16,10 @@ uniform float u_exposure;     // stops
 uniform int u_tone_map;       // 0 clamp, 1 Reinhard on luminance, 2 ACES filmic (Narkowicz fit)
 uniform int u_view;           // 0 colour, 1 relative error, 2 sample count
 uniform float u_samples_max;  // sample count shown as the top of the scale
+uniform sampler2D u_b;        // RGB32F linear radiance of the held image B (any size)
+uniform sampler2D u_diff;     // R32F |A - B| / (B + eps), averaged over channels
+uniform int u_compare;        // 0 A, 1 A | B split, 2 B, 3 difference
+uniform float u_divider;      // split: B right of this fraction of the width
 
 // IEC 61966-2-1 sRGB transfer of a linear value in [0, 1].
 vec3 srgb_from_linear(vec3 c) {
@@ -47,20 +53,35 @@ vec3 turbo(float t) {
     return vec3(dot(v4, kr4) + dot(v2, kr2), dot(v4, kg4) + dot(v2, kg2), dot(v4, kb4) + dot(v2, kb2));
 }
 
+// Exposure, tone map, sRGB.
+vec4 shade(vec3 radiance) {
+    vec3 c = max(radiance, 0.0) * exp2(u_exposure);
+    if (u_tone_map == 1) c = reinhard(c);
+    else if (u_tone_map == 2) c = aces_fit(c);
+    return vec4(srgb_from_linear(c), 1.0);
+}
+
+// log10 of a relative error over [1e-3, 1] in Turbo: blue is close, red is far; 0 is black.
+vec4 log_error(float e) { return vec4(e > 0.0 ? turbo((log(e) / log(10.0) + 3.0) / 3.0) : vec3(0.0), 1.0); }
+
 void main() {
     vec2 uv = vec2(v_uv.x, 1.0 - v_uv.y);
+    if (u_compare == 3) {
+        frag_color = log_error(texture(u_diff, uv).r);
+        return;
+    }
+    if (u_compare == 2 || (u_compare == 1 && v_uv.x >= u_divider)) {
+        frag_color = shade(texture(u_b, uv).rgb);
+        return;
+    }
     if (u_view == 1) {
-        // log10 of the relative error over [1e-3, 1]: blue is converged, red is noisy.
-        float e = texture(u_error, uv).r;
-        frag_color = vec4(e > 0.0 ? turbo((log(e) / log(10.0) + 3.0) / 3.0) : vec3(0.0), 1.0);
+        // The relative error: blue is converged, red is noisy.
+        frag_color = log_error(texture(u_error, uv).r);
         return;
     }
     if (u_view == 2) {
         frag_color = vec4(turbo(texture(u_samples, uv).r / max(u_samples_max, 1.0)), 1.0);
         return;
     }
-    vec3 c = max(texture(u_color, uv).rgb, 0.0) * exp2(u_exposure);
-    if (u_tone_map == 1) c = reinhard(c);
-    else if (u_tone_map == 2) c = aces_fit(c);
-    frag_color = vec4(srgb_from_linear(c), 1.0);
+    frag_color = shade(texture(u_color, uv).rgb);
 }

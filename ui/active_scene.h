@@ -35,6 +35,7 @@ public:
     void load_failed(ViewState& state, const std::string& error);
 
     const Scene& scene() const { return *m_scene; }
+    std::shared_ptr<const Scene> shared() const { return m_scene; }
     const std::vector<std::string>& warnings() const { return m_warnings; }
     bool environment_lit() const { return m_environment_lit; }
     // The file name of the scene's source ("scene.json").

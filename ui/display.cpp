@@ -96,22 +96,28 @@ DisplayPass::DisplayPass() {
     glUniform1i(glGetUniformLocation(m_program, "u_color"), 0);
     glUniform1i(glGetUniformLocation(m_program, "u_error"), 1);
     glUniform1i(glGetUniformLocation(m_program, "u_samples"), 2);
+    glUniform1i(glGetUniformLocation(m_program, "u_b"), 3);
+    glUniform1i(glGetUniformLocation(m_program, "u_diff"), 4);
     m_loc_exposure = glGetUniformLocation(m_program, "u_exposure");
     m_loc_tone_map = glGetUniformLocation(m_program, "u_tone_map");
     m_loc_view = glGetUniformLocation(m_program, "u_view");
     m_loc_samples_max = glGetUniformLocation(m_program, "u_samples_max");
+    m_loc_compare = glGetUniformLocation(m_program, "u_compare");
+    m_loc_divider = glGetUniformLocation(m_program, "u_divider");
     glUseProgram(0);
     glGenVertexArrays(1, &m_vao);
     m_tex_color = make_texture();
     m_tex_error = make_texture();
     m_tex_samples = make_texture();
     m_tex_display = make_texture();
+    m_tex_b = make_texture();
+    m_tex_diff = make_texture();
     glGenFramebuffers(1, &m_fbo);
 }
 
 DisplayPass::~DisplayPass() {
-    const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples, m_tex_display};
-    glDeleteTextures(4, textures);
+    const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples, m_tex_display, m_tex_b, m_tex_diff};
+    glDeleteTextures(6, textures);
     glDeleteFramebuffers(1, &m_fbo);
     glDeleteVertexArrays(1, &m_vao);
     glDeleteProgram(m_program);
@@ -139,6 +145,22 @@ void DisplayPass::upload(const Snapshot& s, bool denoised) {
     m_samples_max = static_cast<float>(std::max<uint32_t>(s.spp, 1));
 }
 
+void DisplayPass::upload_b(const Image& b) {
+    if (b.width <= 0 || b.height <= 0 || b.rgb.size() != size_t(b.width) * size_t(b.height) * 3) return;
+    upload_texture(m_tex_b, b.width != m_b_w || b.height != m_b_h, GL_RGB32F, GL_RGB, b.width, b.height, b.rgb.data());
+    m_b_w = b.width;
+    m_b_h = b.height;
+    m_shaded = false;
+}
+
+void DisplayPass::upload_difference(const std::vector<float>& diff, int w, int h) {
+    if (w <= 0 || h <= 0 || diff.size() != size_t(w) * size_t(h)) return;
+    upload_texture(m_tex_diff, w != m_diff_w || h != m_diff_h, GL_R32F, GL_RED, w, h, diff.data());
+    m_diff_w = w;
+    m_diff_h = h;
+    m_shaded = false;
+}
+
 void DisplayPass::draw(int x, int y, int w, int h, const DisplayParams& p) {
     if (!has_image() || w <= 0 || h <= 0) return;
     if (!m_shaded || p != m_shaded_params) {
@@ -150,8 +172,16 @@ void DisplayPass::draw(int x, int y, int w, int h, const DisplayParams& p) {
         glUniform1i(m_loc_tone_map, static_cast<int>(p.tone_map));
         glUniform1i(m_loc_view, static_cast<int>(p.view));
         glUniform1f(m_loc_samples_max, m_samples_max);
-        const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples};
-        for (int i = 0; i < 3; ++i) {
+        // A compare view without its texture shows A.
+        const bool b_ready = m_b_w > 0, diff_ready = m_diff_w > 0;
+        const CompareView cv =
+            (p.compare == CompareView::Difference && !diff_ready) || (p.compare != CompareView::Difference && !b_ready)
+                ? CompareView::Off
+                : p.compare;
+        glUniform1i(m_loc_compare, static_cast<int>(cv));
+        glUniform1f(m_loc_divider, p.divider);
+        const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples, m_tex_b, m_tex_diff};
+        for (int i = 0; i < 5; ++i) {
             glActiveTexture(GL_TEXTURE0 + i);
             glBindTexture(GL_TEXTURE_2D, textures[i]);
         }

@@ -8,6 +8,7 @@
 
 #include <string>
 
+#include "compare.h"
 #include "core/progressive.h"
 
 namespace pv::ui {
@@ -20,11 +21,16 @@ struct DisplayParams {
     float exposure = 0.f;  // stops
     ToneMap tone_map = ToneMap::Aces;
     View view = View::Colour;
-    // Show the snapshot's a-trous denoised image (Snapshot::denoised) in the colour view when there is one. The
-    // viewer turns the driver's denoising on and off with it; the accumulation is never touched.
-    bool denoise = false;
+    // Show the snapshot's a-trous denoised image (Snapshot::denoised) in the colour view when there is one (the
+    // default, coarse passes included); off: the raw accumulation (key N). The viewer turns the driver's denoising
+    // on and off with it; the accumulation and the error readouts are never touched.
+    bool denoise = true;
+    // The comparison with a held image B (compare.h); the viewer copies it from its Compare each frame.
+    CompareView compare = CompareView::Off;
+    float divider = 0.5f;  // split view: A left of this fraction of the width, B right of it
     bool operator==(const DisplayParams& o) const {
-        return exposure == o.exposure && tone_map == o.tone_map && view == o.view && denoise == o.denoise;
+        return exposure == o.exposure && tone_map == o.tone_map && view == o.view && denoise == o.denoise &&
+               compare == o.compare && divider == o.divider;
     }
     bool operator!=(const DisplayParams& o) const { return !(*this == o); }
 };
@@ -46,19 +52,24 @@ public:
     // Copies the snapshot's images into the textures (reallocated when the size changes); the colour texture gets
     // the denoised image when `denoised` and the snapshot has one.
     void upload(const Snapshot& snapshot, bool denoised = false);
+    // B of the compare views (any size: sampled by texture coordinates) and |A - B| / (B + eps) (Compare::difference).
+    void upload_b(const Image& b);
+    void upload_difference(const std::vector<float>& diff, int w, int h);
     // Draws into the rectangle (x, y, w, h) of the default framebuffer, in pixels from the bottom-left.
     void draw(int x, int y, int w, int h, const DisplayParams& params);
     bool has_image() const { return m_width > 0; }
 
 private:
     unsigned m_program = 0, m_vao = 0;
-    unsigned m_tex_color = 0, m_tex_error = 0, m_tex_samples = 0;
+    unsigned m_tex_color = 0, m_tex_error = 0, m_tex_samples = 0, m_tex_b = 0, m_tex_diff = 0;
+    int m_b_w = 0, m_b_h = 0, m_diff_w = 0, m_diff_h = 0;
     unsigned m_fbo = 0, m_tex_display = 0;  // the shaded image, RGBA8 at the snapshot's size
     bool m_shaded = false;                  // m_tex_display matches the textures and m_shaded_params
     DisplayParams m_shaded_params;
     int m_width = 0, m_height = 0;
     float m_samples_max = 1.f;
     int m_loc_exposure = -1, m_loc_tone_map = -1, m_loc_view = -1, m_loc_samples_max = -1;
+    int m_loc_compare = -1, m_loc_divider = -1;
 };
 
 }  // namespace pv::ui

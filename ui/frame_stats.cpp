@@ -30,12 +30,14 @@ void FrameStats::log_if_due(ViewLog& log, const Snapshot& s) {
     if (now - m_since < 1.0) return;
     log.line(
         "stats gen=%llu size=%dx%d spp=%u render_s=%.2f spp_per_s=%.2f mrays_per_s=%.2f ms_per_pass=%.1f "
-        "rel_mse=%.3e frames=%d frame_ms_avg=%.2f frame_ms_max=%.2f frame_cpu_ms_avg=%.2f",
+        "rel_mse=%.3e frames=%d frame_ms_avg=%.2f frame_ms_max=%.2f frame_cpu_ms_avg=%.2f passes_shown=%d "
+        "passes_denoised=%d denoised_spp=%u",
         (unsigned long long)s.generation, s.width, s.height, s.spp, s.seconds,
         s.seconds > 0.0 ? s.spp / s.seconds : 0.0, s.mrays_per_s, s.ms_per_pass, s.rel_mse, m_frames,
-        m_frames ? m_ms_sum / m_frames : 0.0, m_ms_max, m_frames ? m_cpu_ms_sum / m_frames : 0.0);
+        m_frames ? m_ms_sum / m_frames : 0.0, m_ms_max, m_frames ? m_cpu_ms_sum / m_frames : 0.0, m_passes,
+        m_passes_denoised, s.denoised_spp);
     m_since = now;
-    m_frames = 0;
+    m_frames = m_passes = m_passes_denoised = 0;
     m_ms_sum = m_ms_max = m_cpu_ms_sum = 0.0;
 }
 

@@ -17,11 +17,17 @@ public:
     int total_frames() const { return m_total; }
     // Writes the stats line when a second has passed since the last one, then starts a new second.
     void log_if_due(ViewLog& log, const Snapshot& shown);
+    // A pass went on screen, denoised at its own spp or not (the stats line's passes_shown, passes_denoised).
+    void pass_shown(bool denoised) {
+        ++m_passes;
+        m_passes_denoised += int(denoised);
+    }
 
 private:
     double m_since = -1.0;  // log time of the last stats line
     double m_cpu_start = 0.0;
     int m_frames = 0, m_total = 0;
+    int m_passes = 0, m_passes_denoised = 0;
     double m_ms_sum = 0.0, m_ms_max = 0.0, m_last_ms = 0.0;
     double m_cpu_ms_sum = 0.0;  // CPU time of the UI thread (Mesa's llvmpipe threads not included)
 };

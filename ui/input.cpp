@@ -40,6 +40,11 @@ void install_callbacks(GLFWwindow* window, InputQueue* queue) {
             for (bool& k : queue_of(w).fly_down) k = false;
         queue_of(w).note();
     });
+    glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
+        for (int i = 0; i < count; ++i)
+            if (paths[i]) queue_of(w).dropped.emplace_back(paths[i]);
+        queue_of(w).note();
+    });
     glfwSetCharCallback(window, [](GLFWwindow* w, unsigned) { queue_of(w).note(); });
     glfwSetCursorPosCallback(window, [](GLFWwindow* w, double, double) { queue_of(w).note(); });
     glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { queue_of(w).note(); });

@@ -4,6 +4,7 @@
 
 #include <GLFW/glfw3.h>
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -21,8 +22,9 @@ struct InputQueue {
     std::vector<std::pair<int, int>> keys;  // presses: key, mods
     bool fly_down[6] = {};                  // W A S D Q E, pressed without Ctrl/Alt/Super (Ctrl+S is no fly key)
     float scroll = 0.f;
-    bool any = false;           // something happened: draw a frame
-    double first_event = -1.0;  // glfwGetTime() of the first event not yet handled (for the latency figure)
+    std::vector<std::string> dropped;  // files dropped on the window (drop.h)
+    bool any = false;                  // something happened: draw a frame
+    double first_event = -1.0;         // glfwGetTime() of the first event not yet handled (for the latency figure)
     void note() {
         any = true;
         if (first_event < 0.0) first_event = glfwGetTime();

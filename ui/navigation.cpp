@@ -18,6 +18,10 @@ NavigationResult Navigation::handle(InputQueue& input, const NavigationFrame& fr
         if (glm::length(p - m_drag.start) > kClickSlopPx) m_drag.moved = true;
         const vec2 d = p - m_drag.last;
         m_drag.last = p;
+        if (m_drag.divider) {  // compare view's divider: follows the cursor
+            act.compare.divider = std::clamp(p.x / std::max(frame.image_size.x, 1.f), 0.f, 1.f);
+            return;
+        }
         if (m_drag.region) return;  // the rectangle is taken at the release
         if (!m_drag.moved || (d.x == 0.f && d.y == 0.f)) return;
         if (m_drag.pan)
@@ -27,14 +31,17 @@ NavigationResult Navigation::handle(InputQueue& input, const NavigationFrame& fr
         result.camera_moved = true;
     };
     for (const InputQueue::Button& e : input.buttons) {
-        const bool usable = e.button == GLFW_MOUSE_BUTTON_LEFT || e.button == GLFW_MOUSE_BUTTON_MIDDLE;
+        const bool usable = e.button == GLFW_MOUSE_BUTTON_LEFT || e.button == GLFW_MOUSE_BUTTON_MIDDLE ||
+                            e.button == GLFW_MOUSE_BUTTON_RIGHT;
         if (e.action == GLFW_PRESS && usable && !m_drag.active && !frame.imgui_wants_mouse && in_image(e.pos)) {
             m_drag = Drag{};
             m_drag.active = true;
             m_drag.button = e.button;
             m_drag.pan = e.button == GLFW_MOUSE_BUTTON_MIDDLE || (e.mods & GLFW_MOD_SHIFT);
             m_drag.region = e.button == GLFW_MOUSE_BUTTON_LEFT && (e.mods & GLFW_MOD_CONTROL) && !m_drag.pan;
+            m_drag.divider = e.button == GLFW_MOUSE_BUTTON_RIGHT;
             m_drag.start = m_drag.last = e.pos;
+            if (m_drag.divider) drag_to(e.pos);  // a right click puts the divider there
         } else if (e.action == GLFW_RELEASE && m_drag.active && e.button == m_drag.button) {
             drag_to(e.pos);
             m_drag.active = false;
@@ -67,6 +74,13 @@ NavigationResult Navigation::handle(InputQueue& input, const NavigationFrame& fr
             act.region_changed = true;
             m_log.line("action region cleared");
         }
+        if (key == GLFW_KEY_N) {
+            state.display.denoise = !state.display.denoise;
+            m_log.line("action show %s", state.display.denoise ? "denoised" : "raw");
+        }
+        if (key == GLFW_KEY_B) act.compare.hold = true;
+        if (key == GLFW_KEY_C) act.compare.cycle = true;
+        if (key == GLFW_KEY_V) act.compare.flip = true;
         if (key == GLFW_KEY_P) {
             state.paused = !state.paused;
             act.control_changed = true;

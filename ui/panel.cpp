@@ -1,5 +1,5 @@
 // ui/panel.cpp: the panel's sections, top to bottom: warnings, progress, convergence, estimator, display,
-// light, camera (with bookmarks), materials, snapshots, scene.
+// snapshot, compare, light, camera (with bookmarks), materials, scene.
 #include "panel.h"
 
 #include <imgui.h>
@@ -87,6 +87,7 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
                  ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
     ImGui::TextWrapped("%s: %zu triangles", facts.scene_name.c_str(), facts.triangles);
     for (const std::string& w : facts.warnings) ImGui::TextColored(kWarningColour, "warning: %s", w.c_str());
+    if (!state.drop_status.empty()) status_text(state.drop_status, state.drop_ok);
     if (state.settings.max_depth < RenderSettings{}.max_depth)
         ImGui::TextColored(kWarningColour, "max depth %d truncates paths (biased)", state.settings.max_depth);
 
@@ -95,6 +96,9 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
     if (ImGui::CollapsingHeader("Estimator", ImGuiTreeNodeFlags_DefaultOpen)) estimator(state, facts, act);
     if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) display(state, facts);
     if (ImGui::CollapsingHeader("Snapshot", ImGuiTreeNodeFlags_DefaultOpen)) snapshots(state, act);
+    const bool compare_open = ImGui::CollapsingHeader("Compare", ImGuiTreeNodeFlags_DefaultOpen);
+    log_widget("compare_header");
+    if (compare_open) compare(facts, act);
     const bool light_open = ImGui::CollapsingHeader("Light");
     log_widget("light_header");
     if (light_open) lighting(state, act);
@@ -114,6 +118,15 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
     return act;
 }
 
+std::string shown_image(const ViewState& state, const Snapshot* s) {
+    if (state.display.view != View::Colour) return "false colour (raw)";
+    if (!state.display.denoise) return "RAW";
+    if (!s || s->denoised.empty()) return "RAW (denoising...)";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "DENOISED at %u/%u spp", s->denoised_spp, s->spp);
+    return buf;
+}
+
 void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& act) {
     const Snapshot& s = *facts.snapshot;
     const double secs = std::max(s.seconds, 1e-9);
@@ -127,7 +140,9 @@ void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& ac
         : state.paused     ? "paused"
         : s.target_reached ? (s.active_fraction == 0.0 ? "noise threshold reached: stopped" : "target reached: stopped")
                            : "rendering";
-    ImGui::Text("status: %s", status);
+    // Always said: the denoised image or the raw accumulation (N toggles; the errors are the raw estimator's).
+    ImGui::TextWrapped("status: %s; shown: %s", status, shown_image(state, facts.snapshot).c_str());
+    log_widget("status");
     ImGui::SetNextItemWidth(100.f);
     if (ImGui::InputInt("target spp", &state.target_spp, 16, 256)) {
         state.target_spp = std::max(state.target_spp, 0);
@@ -176,9 +191,9 @@ void Panel::convergence(const PanelFacts& facts) {
     const Snapshot& s = *facts.snapshot;
     const ConvergenceHistory& h = *facts.history;
     if (s.rel_mse > 0.0 && h.size() >= 4)
-        ImGui::Text("est. relMSE %.3e   slope %.2f (ideal -1)", s.rel_mse, h.slope_vs_spp());
+        ImGui::Text("est. relMSE (raw) %.2e  slope %.2f (ideal -1)", s.rel_mse, h.slope_vs_spp());
     else if (s.rel_mse > 0.0)
-        ImGui::Text("est. relMSE %.3e", s.rel_mse);
+        ImGui::Text("est. relMSE (raw) %.3e", s.rel_mse);
     else
         ImGui::TextDisabled("est. relMSE: from 2 spp (even/odd halves)");
     float lo = 0.f, hi = 0.f;
@@ -186,6 +201,60 @@ void Panel::convergence(const PanelFacts& facts) {
     log_log_plot("##time", by_time, lo, hi, "s");
     const std::vector<float> by_spp = h.log_log_by_spp(64, lo, hi);
     log_log_plot("##spp", by_spp, lo, hi, "spp");
+    // Against B (Compare section): the true relMSE when B is a reference, next to the estimate above.
+    if (!facts.compare || !facts.compare->has_b()) return;
+    const Compare& c = *facts.compare;
+    if (const auto r = c.rel_mse()) {
+        if (c.rel_mse_denoised() >= 0.0)
+            ImGui::Text("relMSE vs B %.3e   denoised %.3e", *r, c.rel_mse_denoised());
+        else
+            ImGui::Text("relMSE vs B %.3e", *r);
+    } else {
+        ImGui::TextDisabled("relMSE vs B: when A is %dx%d like B", c.b().width, c.b().height);
+    }
+    const std::vector<float> vs_b = c.history().log_log_by_seconds(64, lo, hi);
+    char overlay[96];
+    if (vs_b.empty())
+        std::snprintf(overlay, sizeof overlay, "relMSE vs B against time: from 2 points");
+    else
+        std::snprintf(overlay, sizeof overlay, "log10 relMSE vs B against log10 s, s = %.3g..%.3g", std::pow(10.f, lo),
+                      std::pow(10.f, hi));
+    static const float kNothing[2] = {0.f, 0.f};
+    ImGui::PlotLines("##vs_b", vs_b.empty() ? kNothing : vs_b.data(), vs_b.empty() ? 2 : int(vs_b.size()), 0, overlay,
+                     vs_b.empty() ? 0.f : FLT_MAX, vs_b.empty() ? 1.f : FLT_MAX,
+                     ImVec2(ImGui::GetContentRegionAvail().x, 48.f));
+}
+
+void Panel::compare(const PanelFacts& facts, PanelActions& act) {
+    static const Compare kNone;
+    const Compare& c = facts.compare ? *facts.compare : kNone;
+    if (ImGui::Button("Hold B (B)")) act.compare.hold = true;
+    log_widget("hold_b");
+    if (c.has_b()) {
+        ImGui::SameLine();
+        if (ImGui::Button("Clear B")) act.compare.clear = true;
+        int view = static_cast<int>(c.view());
+        ImGui::SetNextItemWidth(200.f);
+        if (ImGui::Combo("view (C, V)", &view, "A\0A | B split\0B\0|A-B|/(B+0.01)\0"))
+            act.compare.view = CompareView(view);
+        log_widget("compare_view");
+        if (c.view() == CompareView::Split) {
+            float d = c.divider();
+            ImGui::SetNextItemWidth(200.f);
+            if (ImGui::SliderFloat("divider (right drag)", &d, 0.f, 1.f, "%.2f")) act.compare.divider = d;
+        }
+    } else {
+        ImGui::SameLine();
+        ImGui::TextDisabled("no B held");
+    }
+    if (!c.status().empty()) status_text(c.status(), c.ok());
+    if (facts.compare_camera_moved) status_text("camera moved since B was held", false);
+    ImGui::SetNextItemWidth(-FLT_MIN);
+    const bool entered = ImGui::InputTextWithHint("##compare_path", "reference.exr", m_compare_path,
+                                                  sizeof m_compare_path, ImGuiInputTextFlags_EnterReturnsTrue);
+    log_widget("compare_path");
+    if ((ImGui::Button("Load EXR as B") || entered) && m_compare_path[0]) act.compare.load = m_compare_path;
+    log_widget("compare_load");
 }
 
 void Panel::estimator(ViewState& state, const PanelFacts& facts, PanelActions& act) {
@@ -285,14 +354,14 @@ void Panel::bookmarks(ViewState& state, PanelActions& act) {
 
 void Panel::display(ViewState& state, const PanelFacts& facts) {
     DisplayParams& d = state.display;
-    ImGui::Checkbox("denoise (a-trous, display only)", &d.denoise);
+    ImGui::Checkbox("denoised display (N; off: raw accumulation)", &d.denoise);
     log_widget("denoise");
     if (d.denoise && facts.snapshot) {
         const Snapshot& s = *facts.snapshot;
         if (s.denoised.empty())
             ImGui::TextDisabled("denoising ...");
         else
-            ImGui::TextWrapped("showing: DENOISED, %u of %u spp, %.0f ms (the errors above are the noisy image's)",
+            ImGui::TextWrapped("a-trous, %u of %u spp, %.0f ms a pass (the errors above are the raw estimator's)",
                                s.denoised_spp, s.spp, s.denoise_ms);
     }
     ImGui::SliderFloat("exposure", &d.exposure, -10.f, 10.f, "%+.1f stops");
@@ -379,7 +448,10 @@ void Panel::snapshots(ViewState& state, PanelActions& act) {
 }
 
 void Panel::scene(ViewState& state, PanelActions& act) {
-    if (m_scene_path[0] == 0) std::snprintf(m_scene_path, sizeof m_scene_path, "%s", state.scene_path.c_str());
+    if (m_scene_path[0] == 0 || state.scene_path != m_field_scene_path) {  // at start, or a scene was dropped
+        std::snprintf(m_scene_path, sizeof m_scene_path, "%s", state.scene_path.c_str());
+        m_field_scene_path = state.scene_path;
+    }
     ImGui::SetNextItemWidth(-FLT_MIN);
     const bool entered =
         ImGui::InputText("##scene", m_scene_path, sizeof m_scene_path, ImGuiInputTextFlags_EnterReturnsTrue);
@@ -392,6 +464,39 @@ void Panel::scene(ViewState& state, PanelActions& act) {
         act.load_scene = true;
     }
     if (!state.scene_status.empty()) status_text(state.scene_status, state.scene_ok);
+}
+
+void draw_compare_overlay(const Compare& c, bool camera_moved, float w, float h) {
+    if (c.view() == CompareView::Off || w <= 0.f || h <= 0.f) return;
+    ImDrawList* dl = ImGui::GetBackgroundDrawList();
+    const ImU32 text = IM_COL32(255, 255, 255, 255), shade = IM_COL32(0, 0, 0, 160);
+    auto label = [&](ImVec2 at, const char* s) {
+        const ImVec2 size = ImGui::CalcTextSize(s);
+        dl->AddRectFilled(ImVec2(at.x - 3.f, at.y - 2.f), ImVec2(at.x + size.x + 3.f, at.y + size.y + 2.f), shade);
+        dl->AddText(at, text, s);
+    };
+    // B: the file's name, or when it was held; short enough for a narrow image.
+    std::string b = c.source();
+    if (c.from_file()) b = b.substr(b.find_last_of('/') == std::string::npos ? 0 : b.find_last_of('/') + 1);
+    b = "B: " + b + (camera_moved ? " (camera moved)" : "");
+    switch (c.view()) {
+        case CompareView::Split: {
+            const float x = c.divider() * w;
+            dl->AddLine(ImVec2(x, 0.f), ImVec2(x, h), IM_COL32(255, 255, 255, 200), 1.f);
+            label(ImVec2(8.f, 8.f), "A: live");
+            const float bw = ImGui::CalcTextSize(b.c_str()).x;
+            label(ImVec2(std::max(x + 8.f, w - bw - 8.f), 8.f), b.c_str());
+            break;
+        }
+        case CompareView::ShowB:
+            label(ImVec2(8.f, 8.f), b.c_str());
+            break;
+        case CompareView::Difference:
+            label(ImVec2(8.f, 8.f), "|A-B|/(B+0.01): 1e-3 blue .. 1 red");
+            break;
+        default:
+            break;
+    }
 }
 
 void Panel::log_widget(const char* name) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "camera_controller.h"
+#include "compare.h"
 #include "convergence.h"
 #include "core/environment.h"
 #include "core/renderer.h"
@@ -34,7 +35,9 @@ struct ViewState {
     std::string scene_path;  // the scene to load (Scene section)
     std::string scene_status;
     bool scene_ok = true;
-    bool scene_loading = false;       // a load runs in the background
+    bool scene_loading = false;  // a load runs in the background
+    std::string drop_status;     // the last file dropped on the window: loading, loaded, or what failed
+    bool drop_ok = true;
     EnvironmentSettings environment;  // sky, map rotation/strength, sun (Light section)
     bool has_environment_map = false;
     std::vector<Scene::Bookmark> bookmarks;  // saved with the scene file (Camera section)
@@ -56,6 +59,8 @@ struct PanelFacts {
     int level = 1;                        // render resolution divisor (4, 2 or 1)
     bool minimised = false;
     double frame_ms = 0.0;  // the UI's last frame
+    const Compare* compare = nullptr;
+    bool compare_camera_moved = false;  // B was held from another camera
 };
 
 // What the user asked for in this frame.
@@ -74,6 +79,7 @@ struct PanelActions {
     int goto_bookmark = -1;       // index into ViewState::bookmarks
     std::string save_bookmark;    // non-empty: save the current camera under this name
     bool region_changed = false;  // ViewState::region set or cleared
+    CompareActions compare;       // hold B, compare views, divider, load an EXR as B
 };
 
 class Panel {
@@ -93,13 +99,23 @@ private:
     void scene(ViewState& state, PanelActions& act);
     void lighting(ViewState& state, PanelActions& act);
     void bookmarks(ViewState& state, PanelActions& act);
+    void compare(const PanelFacts& facts, PanelActions& act);
     // Logs the centre of the last item, once per position change (the GUI test clicks it).
     void log_widget(const char* name);
 
     ViewLog& m_log;
     std::map<std::string, std::pair<int, int>> m_logged;
-    char m_scene_path[1024] = {};  // the Scene section's text field
+    char m_scene_path[1024] = {};    // the Scene section's text field
+    std::string m_field_scene_path;  // state.scene_path when the field was last set from it
     char m_bookmark_name[128] = "view 1";
+    char m_compare_path[1024] = {};  // the Compare section's EXR path
 };
+
+// What the image shown is: "DENOISED at 9/9 spp", "RAW", "RAW (denoising...)" or "false colour (raw)".
+std::string shown_image(const ViewState& state, const Snapshot* snapshot);
+
+// Labels the compare views on the image (A and B either side of the split's divider, "B", the difference's scale)
+// with ImGui's background draw list; `image_w` x `image_h`: the image region in window pixels.
+void draw_compare_overlay(const Compare& compare, bool camera_moved, float image_w, float image_h);
 
 }  // namespace pv::ui

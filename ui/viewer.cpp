@@ -12,12 +12,17 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <optional>
+#include <utility>
 
 #include "active_scene.h"
 #include "bookmarks.h"
 #include "camera_controller.h"
+#include "compare.h"
 #include "core/scene_file.h"
 #include "display.h"
+#include "drop.h"
 #include "frame_stats.h"
 #include "navigation.h"
 #include "panel.h"
@@ -50,6 +55,11 @@ private:
     LoadedScene load_first_scene();
     // Adopts a finished background load (the panel's "Load"); on failure the current scene stays.
     void poll_loading(double now);
+    // The compare views (compare.h): applies the frame's actions, keeps B's texture and the difference current.
+    void update_compare(const CompareActions& act);
+    // Files dropped on the window (drop.h): a scene loads as the Scene section's "Load"; an image becomes the map.
+    void handle_drops();
+    void upload_difference();
 
     // Members are destroyed in reverse order: loads, writes and render threads end before the GL context goes.
     const ViewerOptions& m_opt;
@@ -66,6 +76,7 @@ private:
     Navigation m_navigation{m_log};
     RefinementSchedule m_schedule;
     ShownImage m_image;
+    Compare m_compare;
     FrameStats m_frame_stats;
     ViewState m_state;
 
@@ -74,7 +85,8 @@ private:
     double m_last_frame = -1.0;
     int m_settle_frames = 0;
     bool m_minimised = false;
-    bool m_denoising = false;  // the driver's denoising, as last set from m_state.display.denoise
+    bool m_denoising = false;                   // the driver's denoising, as last set from m_state.display.denoise
+    std::optional<DropRequest> m_drop_loading;  // the drop that started the background load
 };
 
 Viewer::Viewer(const ViewerOptions& o)
@@ -89,7 +101,13 @@ Viewer::Viewer(const ViewerOptions& o)
     m_state.adaptive = o.adaptive;
     m_state.snapshot_dir = o.snapshot_dir;
     m_state.scene_path = first.scene->source;
+    m_denoising = m_state.display.denoise;  // denoised by default: the first passes are filtered too
     use_scene(std::move(first));
+    if (o.compare_image) {
+        m_compare.set_b(*o.compare_image, o.compare_path);
+        m_display->upload_b(m_compare.b());
+        m_log.line("compare %s", m_compare.status().c_str());
+    }
     m_log.line("start scene=%s triangles=%zu threads=%d gl=\"%s\" refresh_hz=%.0f", m_scene.scene().source.c_str(),
                m_scene.scene().triangle_count(), m_renderer->threads(),
                reinterpret_cast<const char*>(glGetString(GL_RENDERER)), m_window.refresh_hz());
@@ -125,14 +143,56 @@ void Viewer::use_scene(LoadedScene loaded) {
 
 void Viewer::poll_loading(double now) {
     if (!m_loader.ready()) return;
+    const std::optional<DropRequest> dropped = std::exchange(m_drop_loading, std::nullopt);
     try {
         use_scene(m_loader.take());
     } catch (const std::exception& e) {
         m_scene.load_failed(m_state, e.what());
+        if (dropped) {
+            m_state.drop_status = e.what();
+            m_state.drop_ok = false;
+            std::fprintf(stderr, "%s\n", e.what());
+        }
         return;
     }
     m_scene.load_succeeded(m_state);
+    if (dropped) {
+        m_state.drop_status =
+            (dropped->kind == DropKind::Scene ? "loaded scene " : "loaded environment map ") + dropped->path;
+        m_state.drop_ok = true;
+        m_log.line("drop %s", m_state.drop_status.c_str());
+    }
     post(m_schedule.coarse("scene", now), false, false, now);
+}
+
+void Viewer::handle_drops() {
+    if (m_input.dropped.empty()) return;
+    const DropRequest d = dispatch_drop(m_input.dropped);
+    m_input.dropped.clear();
+    m_state.drop_status = d.message;
+    m_state.drop_ok = d.kind != DropKind::Unknown;
+    if (d.kind != DropKind::Unknown && m_loader.busy()) {
+        m_state.drop_status = d.path + ": not loaded, another load is running; drop it again when that ends";
+        m_state.drop_ok = false;
+    } else if (d.kind == DropKind::Scene) {
+        m_state.scene_path = d.path;
+        if (m_loader.start([path = d.path] { return pv::load_scene(path); }, m_opt.threads)) {
+            m_scene.load_started(m_state);
+            m_drop_loading = d;
+        }
+    } else if (d.kind == DropKind::EnvironmentMap) {
+        // The current scene with the new map, rebuilt off the UI thread like a loaded scene; the view stays.
+        auto load = [scene = m_scene.shared(), path = d.path, camera = m_camera->desc(), materials = m_state.materials,
+                     environment = m_state.environment] {
+            return with_environment_map(*scene, path, camera, materials, environment);
+        };
+        if (m_loader.start(load, m_opt.threads)) {
+            m_state.scene_loading = true;
+            m_drop_loading = d;
+        }
+    }
+    m_log.line("drop %s", m_state.drop_status.c_str());
+    if (!m_state.drop_ok) std::fprintf(stderr, "%s\n", m_state.drop_status.c_str());
 }
 
 bool Viewer::wait_for_work() {
@@ -170,6 +230,10 @@ bool Viewer::wait_for_work() {
     bool work = continuous || m_input.any || m_schedule.deferral_expired(glfwGetTime());
     if (m_image.update([this](Snapshot& s) { return m_renderer->latest(s); })) {
         m_display->upload(m_image.displayed(), m_state.display.denoise);
+        m_frame_stats.pass_shown(m_state.display.denoise && !m_image.displayed().denoised.empty() &&
+                                 m_image.displayed().denoised_spp == m_image.displayed().spp);
+        m_compare.update(m_image.shown());
+        upload_difference();
         work = true;
     }
     if (m_snapshots.save_partial(m_renderer->take_partial(), m_state)) work = true;
@@ -212,11 +276,16 @@ int Viewer::run() {
         facts.full_height = m_full_h;
         facts.level = m_schedule.level();
         facts.frame_ms = m_frame_stats.last_ms();
+        facts.compare = &m_compare;
+        facts.compare_camera_moved = m_compare.camera_moved(m_camera->desc());
         PanelActions act = m_panel.draw(m_state, *m_camera, facts, kPanelWidth);
+        draw_compare_overlay(m_compare, facts.compare_camera_moved, float(m_full_w) / m_fb_scale,
+                             float(m_full_h) / m_fb_scale);
         if (m_state.display.denoise != m_denoising) {  // a display change: the accumulation is not restarted
             m_denoising = m_state.display.denoise;
             m_renderer->set_denoise(m_denoising);
             m_display->upload(m_image.displayed(), m_denoising);
+            upload_difference();
             m_log.line("denoise %d", int(m_denoising));
         }
 
@@ -231,8 +300,10 @@ int Viewer::run() {
         if (act.load_scene &&
             m_loader.start([path = m_state.scene_path] { return pv::load_scene(path); }, m_opt.threads))
             m_scene.load_started(m_state);
+        handle_drops();
         poll_loading(start);
         handle_bookmarks(act, m_state, m_camera->desc(), m_scene.scene().source, m_log);
+        update_compare(act.compare);
 
         // 4. Restart the accumulation on a change (a new image size included), or refine at rest.
         const int region_w = std::max(fb_w - panel_fb, 1);
@@ -252,6 +323,8 @@ int Viewer::run() {
         glViewport(0, 0, fb_w, fb_h);
         glClearColor(0.08f, 0.08f, 0.08f, 1.f);
         glClear(GL_COLOR_BUFFER_BIT);
+        m_state.display.compare = m_compare.view();
+        m_state.display.divider = m_compare.divider();
         m_display->draw(0, 0, m_full_w, m_full_h, m_state.display);
 
         // 6. The panel on top; swap.
@@ -265,6 +338,29 @@ int Viewer::run() {
     }
     m_log.line("exit frames=%d", m_frame_stats.total_frames());
     return 0;
+}
+
+void Viewer::update_compare(const CompareActions& act) {
+    const std::string status = m_compare.status();
+    const std::string source = m_compare.source();
+    const CompareView view = m_compare.view();
+    if (!m_compare.apply(act, m_image.displayed(), m_denoising, m_camera->desc(), m_full_w, m_full_h)) return;
+    if (m_compare.source() != source || act.hold || !act.load.empty()) m_display->upload_b(m_compare.b());
+    upload_difference();
+    if (m_compare.status() != status || act.hold || !act.load.empty()) {
+        m_log.line("compare %s", m_compare.status().c_str());
+        if (!m_compare.ok()) std::fprintf(stderr, "%s\n", m_compare.status().c_str());
+    }
+    if (m_compare.view() != view) m_log.line("compare view=%s", compare_view_name(m_compare.view()));
+    m_compare.update(m_image.shown());
+}
+
+void Viewer::upload_difference() {
+    if (m_compare.view() != CompareView::Difference) return;
+    const Snapshot& a = m_image.displayed();
+    const bool denoised = m_denoising && a.denoised.size() == a.rgb.size();
+    m_display->upload_difference(m_compare.difference((denoised ? a.denoised : a.rgb).data(), a.width, a.height),
+                                 a.width, a.height);
 }
 
 NavigationFrame Viewer::navigation_frame(double dt) const {

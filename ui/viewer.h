@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "core/progressive.h"
@@ -19,6 +20,9 @@ struct ViewerOptions {
     int threads = 0;                // 0: all cores
     std::string snapshot_dir = ".";
     std::string log_file;  // empty: no log
+    // --compare FILE.exr: B of the compare views from the start (read and size-checked by the caller).
+    std::shared_ptr<const Image> compare_image;
+    std::string compare_path;
 };
 
 // Runs the viewer until the window closes; returns the exit code (0). Throws pv::Error when there is no display,

@@ -206,6 +206,41 @@ TEST(ViewerNavigation, ShortcutsRespectImGuiKeyboardFocus) {
     EXPECT_TRUE(r.quit);
 }
 
+// The display is denoised by default; N shows the raw accumulation and back, never while ImGui is typing, and is a
+// display change only (no restart).
+TEST(ViewerNavigation, NTogglesTheRawAccumulation) {
+    NavFixture f;
+    EXPECT_TRUE(f.state.display.denoise);
+    PanelActions act;
+    f.input.keys = {{GLFW_KEY_N, 0}};
+    EXPECT_FALSE(f.frame_once(act).camera_moved);
+    EXPECT_FALSE(f.state.display.denoise);
+    EXPECT_EQ(restart_reason(act, false, false), "");
+    f.frame.imgui_wants_keyboard = true;
+    f.input.keys = {{GLFW_KEY_N, 0}};
+    f.frame_once(act);
+    EXPECT_FALSE(f.state.display.denoise);
+    f.frame.imgui_wants_keyboard = false;
+    f.input.keys = {{GLFW_KEY_N, 0}};
+    f.frame_once(act);
+    EXPECT_TRUE(f.state.display.denoise);
+}
+
+// The panel always says which image is on screen.
+TEST(ViewerPanel, SaysWhetherTheDenoisedOrTheRawImageIsShown) {
+    ViewState state;
+    Snapshot s;
+    s.spp = 9;
+    EXPECT_EQ(shown_image(state, &s), "RAW (denoising...)");
+    s.denoised.assign(3, 0.f);
+    s.denoised_spp = 8;
+    EXPECT_EQ(shown_image(state, &s), "DENOISED at 8/9 spp");
+    state.display.denoise = false;
+    EXPECT_EQ(shown_image(state, &s), "RAW");
+    state.display.view = View::RelativeError;
+    EXPECT_EQ(shown_image(state, &s), "false colour (raw)");
+}
+
 TEST(ViewerNavigation, HeldFlyKeysMoveByElapsedTime) {
     NavFixture f;
     PanelActions act;

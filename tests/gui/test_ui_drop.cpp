@@ -1,0 +1,98 @@
+// tests/gui/test_ui_drop.cpp: files dropped on the window (drop.h): the dispatch by extension, and the current scene
+// with a dropped environment map. No display.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+#include "core/image_io.h"
+#include "core/scene_file.h"
+#include "drop.h"
+
+namespace pv::ui {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temp_dir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    fs::path p = fs::path(::testing::TempDir()) /
+                 ("pathview-drop-" + std::to_string(getpid()) + "-" + info->test_suite_name() + "-" + info->name());
+    fs::remove_all(p);
+    fs::create_directories(p);
+    return p;
+}
+
+}  // namespace
+
+TEST(ViewerDrop, KindByExtensionInAnyCase) {
+    for (const char* p : {"a.obj", "dir/b.JSON", "c.gltf", "/x/y/d.GLB"}) EXPECT_EQ(drop_kind(p), DropKind::Scene) << p;
+    for (const char* p : {"sky.exr", "sky.HDR", "/m/n.png", "photo.JPG", "a.jpeg"})
+        EXPECT_EQ(drop_kind(p), DropKind::EnvironmentMap) << p;
+    for (const char* p : {"notes.txt", "mesh.ply", "noext", "archive.obj.gz", ".exr", "dir.obj/"})
+        EXPECT_EQ(drop_kind(p), DropKind::Unknown) << p;
+}
+
+TEST(ViewerDrop, FirstKnownFileIsLoadedAndUnknownOnesAreNamed) {
+    EXPECT_EQ(dispatch_drop({}).kind, DropKind::Unknown);
+    EXPECT_TRUE(dispatch_drop({}).message.empty());
+    DropRequest r = dispatch_drop({"/s/room.obj"});
+    EXPECT_EQ(r.kind, DropKind::Scene);
+    EXPECT_EQ(r.path, "/s/room.obj");
+    EXPECT_EQ(r.message, "loading scene /s/room.obj ...");
+    r = dispatch_drop({"/a/readme.txt", "/m/sky.hdr", "/s/room.obj"});
+    EXPECT_EQ(r.kind, DropKind::EnvironmentMap);
+    EXPECT_EQ(r.path, "/m/sky.hdr");
+    EXPECT_EQ(r.message, "loading environment map /m/sky.hdr ... (2 other files ignored)");
+    r = dispatch_drop({"/a/readme.txt", "/b/c.ply"});
+    EXPECT_EQ(r.kind, DropKind::Unknown);
+    EXPECT_TRUE(r.path.empty());
+    EXPECT_EQ(r.message.rfind("/a/readme.txt: unknown file type; ", 0), 0u) << r.message;
+    EXPECT_EQ(r.message.find('\n'), std::string::npos);
+}
+
+// A dropped map lights the current scene as `--environment MAP` would, from the current camera and with the edited
+// materials and light; a bad file throws naming it and the scene is untouched.
+TEST(ViewerDrop, EnvironmentMapJoinsTheSceneAsEdited) {
+    const fs::path dir = temp_dir();
+    const Scene scene = load_scene(builtin_scene_path());
+    Image map(8, 4);
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 8; ++x) map.set(x, y, vec3(0.5f + 0.1f * float(x), 0.25f, 1.f));
+    const std::string map_path = (dir / "sky.exr").string();
+    write_exr(map_path, map);
+    const CameraDesc camera{vec3(1.f, 2.f, 3.f), vec3(0.f), vec3(0.f, 1.f, 0.f), 35.f};
+    std::vector<Material> materials = scene.materials;
+    ASSERT_FALSE(materials.empty());
+    materials[0].emission = vec3(7.f);
+    EnvironmentSettings env = scene.environment;
+    env.rotation_deg = 30.f;
+    env.strength = 2.f;
+
+    const Scene lit = with_environment_map(scene, map_path, camera, materials, env);
+    ASSERT_NE(lit.environment_map, kNoIndex);
+    ASSERT_LT(lit.environment_map, lit.textures.size());
+    EXPECT_EQ(lit.textures[lit.environment_map].width(), 8);
+    EXPECT_EQ(lit.textures[lit.environment_map].height(), 4);
+    EXPECT_EQ(lit.camera.eye, camera.eye);
+    EXPECT_EQ(lit.camera.vfov_deg, 35.f);
+    EXPECT_EQ(lit.materials[0].emission, vec3(7.f));
+    EXPECT_TRUE(lit.environment == env);
+    EXPECT_EQ(lit.triangle_count(), scene.triangle_count());
+    EXPECT_EQ(scene.environment_map, load_scene(builtin_scene_path()).environment_map);  // the original is untouched
+
+    std::ofstream(dir / "junk.hdr") << "not an image";
+    for (const fs::path& bad : {dir / "junk.hdr", dir / "missing.exr"}) {
+        try {
+            with_environment_map(scene, bad.string(), camera, materials, env);
+            ADD_FAILURE() << bad << " loaded";
+        } catch (const Error& e) {
+            EXPECT_EQ(std::string(e.what()).rfind(bad.string(), 0), 0u) << e.what();
+        }
+    }
+    fs::remove_all(dir);
+}
+
+}  // namespace pv::ui
