@@ -278,8 +278,9 @@ struct Loader {
         const std::vector<float> f = read_floats(index, at, {TINYGLTF_TYPE_SCALAR}, comps);
         std::vector<uint32_t> out(f.size());
         for (size_t i = 0; i < f.size(); ++i) {
-            // Indices up to 2^32 - 1 are exact in double but not in float; read them again exactly.
-            out[i] = uint32_t(f[i]);
+            // Indices above 2^24 are not exact in float (2^32 - 1 rounds to 2^32, outside uint32_t): read them
+            // again exactly below, or refused as out of range.
+            out[i] = f[i] < 4294967296.f ? uint32_t(f[i]) : UINT32_MAX;
         }
         // Re-read 32-bit indices exactly (float holds integers up to 2^24 only).
         const tinygltf::Accessor& a = model.accessors[size_t(index)];

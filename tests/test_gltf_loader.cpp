@@ -698,6 +698,12 @@ TEST(GltfLoader, DamagedFilesEndInOneLineNamingTheFileAndJsonPathWithinLittleMem
             g.accessor(g.view(bytes_of<uint16_t>({0, 1, 3})), kUShort, 3, "SCALAR");
         cases.push_back(
             {"index past the vertices", dir.file("index.gltf", g.text()), {"/meshes/0/primitives/0/indices: index 3"}});
+        // The largest 32-bit index (a float rounds it to 2^32, whose cast to uint32_t was undefined: fuzz_gltf).
+        g.j["meshes"][0]["primitives"][0]["indices"] =
+            g.accessor(g.view(bytes_of<uint32_t>({0, 1, 4294967295u})), kUInt, 3, "SCALAR");
+        cases.push_back({"index 2^32 - 1",
+                         dir.file("index32.gltf", g.text()),
+                         {"/meshes/0/primitives/0/indices: index 4294967295"}});
     }
     cases.push_back({"not JSON", dir.file("garbage.gltf", "{\"asset\": [1, 2"), {"invalid JSON"}});
     {
