@@ -530,6 +530,69 @@ TEST(GltfLoader, NormalTextureIsLinearWithItsScaleAndTangentsFromTheFile) {
     EXPECT_EQ(s.tangent_indices[2].x, kNoIndex) << "no TANGENT: from the uvs at the hit";
 }
 
+// Samplers' wrapS / wrapT reach every texture the loader makes of an image: the base colour as it is and baked with
+// its factor, the metallic-roughness, normal and emissive textures. One image under two samplers is two textures;
+// no sampler, or a sampler without wrap modes, repeats; an invalid mode repeats with a warning naming it.
+TEST(GltfLoader, SamplerWrapModesReachEveryTexture) {
+    Gltf g;
+    const uint8_t px[4][4] = {{255, 255, 255, 255}, {255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}};
+    g.j["images"] = {{{"bufferView", g.view(tga_2x2(px))}, {"mimeType", "image/png"}}};
+    g.j["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}},
+                       {{"wrapS", 33648}, {"wrapT", 10497}},
+                       {{"wrapT", 33071}},
+                       json::object(),
+                       {{"wrapS", 1234}}};
+    g.j["textures"] = {{{"source", 0}, {"sampler", 0}},
+                       {{"source", 0}, {"sampler", 1}},
+                       {{"source", 0}, {"sampler", 2}},
+                       {{"source", 0}, {"sampler", 3}},
+                       {{"source", 0}},
+                       {{"source", 0}, {"sampler", 4}}};
+    g.j["materials"] = {
+        {{"name", "clamp-mirror"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}},
+        {{"name", "baked mirror-repeat"},
+         {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 1, 1, 1}}, {"baseColorTexture", {{"index", 1}}}}}},
+        {{"name", "data"},
+         {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 1}}}}},
+         {"normalTexture", {{"index", 0}}},
+         {"emissiveFactor", {1, 1, 1}},
+         {"emissiveTexture", {{"index", 0}}}},
+        {{"name", "repeat-clamp"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 2}}}}}},
+        {{"name", "empty sampler"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 3}}}}}},
+        {{"name", "no sampler"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 4}}}}}},
+        {{"name", "invalid"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 5}}}}}}};
+    const int pos = g.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    const int uv = g.floats({0, 0, 1, 0, 0, 1}, "VEC2", 2);
+    json roots = json::array();
+    for (int m = 0; m < 7; ++m)
+        roots.push_back(g.node({{"mesh", g.mesh({{"POSITION", pos}, {"TEXCOORD_0", uv}}, -1, -1, m)}}));
+    g.scene(roots);
+    const Scene s = load(g.glb(), "wrap.glb");
+    using W = TextureWrap;
+    auto modes = [&](uint32_t t) {
+        EXPECT_NE(t, kNoIndex);
+        return t == kNoIndex ? std::pair{W::Repeat, W::Repeat}
+                             : std::pair{s.textures[t].wrap_s(), s.textures[t].wrap_t()};
+    };
+    ASSERT_EQ(s.materials.size(), 7u);
+    EXPECT_EQ(modes(s.materials[0].base_color_texture), std::pair(W::ClampToEdge, W::MirroredRepeat));
+    EXPECT_EQ(modes(s.materials[1].base_color_texture), std::pair(W::MirroredRepeat, W::Repeat)) << "baked copy";
+    EXPECT_EQ(modes(s.materials[2].metallic_roughness_texture), std::pair(W::MirroredRepeat, W::Repeat));
+    EXPECT_EQ(modes(s.materials[2].normal_texture), std::pair(W::ClampToEdge, W::MirroredRepeat));
+    EXPECT_EQ(modes(s.materials[2].emissive_texture), std::pair(W::ClampToEdge, W::MirroredRepeat));
+    EXPECT_EQ(s.materials[2].emissive_texture, s.materials[0].base_color_texture) << "same image, same sampler";
+    EXPECT_EQ(modes(s.materials[3].base_color_texture), std::pair(W::Repeat, W::ClampToEdge));
+    EXPECT_EQ(modes(s.materials[4].base_color_texture), std::pair(W::Repeat, W::Repeat));
+    EXPECT_EQ(modes(s.materials[5].base_color_texture), std::pair(W::Repeat, W::Repeat));
+    EXPECT_EQ(modes(s.materials[6].base_color_texture), std::pair(W::Repeat, W::Repeat));
+    // A lookup outside [0, 1] follows the mode: texel (0, 0) is white, (1, 0) red (row 0 on top, v up).
+    const Texture& clamp_mirror = s.textures[s.materials[0].base_color_texture];
+    EXPECT_EQ(clamp_mirror.lookup(vec2(-3.f, 0.75f)), vec4(1.f)) << "clamped to column 0";
+    EXPECT_EQ(clamp_mirror.lookup(vec2(5.f, 0.75f)), vec4(1.f, 0.f, 0.f, 1.f)) << "clamped to column 1";
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("/samplers/4/wrapS: wrap mode 1234"), std::string::npos) << s.warnings[0];
+}
+
 TEST(GltfLoader, MetallicRoughnessTextureIsLinearAndKeepsTheLobesItsTexelsNeed) {
     Gltf g;
     const uint8_t px[4][4] = {{0, 128, 0, 255}, {0, 255, 255, 255}, {0, 64, 128, 255}, {0, 0, 255, 255}};
