@@ -7,14 +7,6 @@
 namespace pv {
 
 namespace {
-// Multiplies the diffuse colour (the one set_base_color sets) by `c` in [0, 1]^3: a glTF COLOR_0 over the factor or
-// texel. The products stay within set_base_color's bounds.
-void multiply_base_color(Bsdf& bsdf, vec3 c) {
-    if (auto* l = std::get_if<Lambertian>(&bsdf)) l->albedo *= c;
-    if (auto* g = std::get_if<Glossy>(&bsdf)) g->diffuse *= c;
-    if (auto* m = std::get_if<MetallicRoughness>(&bsdf)) m->base_color *= c;
-}
-
 // Power heuristic with beta = 2 (Veach 1997, sec. 9.2.4), written to stay finite for huge pdfs.
 inline float power_heuristic(float pa, float pb) {
     if (!(pa > 0.f)) return 0.f;
