@@ -119,8 +119,10 @@ bool PathWalker::step_with() {
                 // A normal map tilts the shading normal (materials without one skip this).
                 if (mat.normal_texture != kNoIndex) [[unlikely]] {
                     const vec2 uv = kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
-                    m_sf.ns = normal_mapped(scene, hit.prim, hit.u, hit.v, m_sf,
-                                            vec3(scene.textures[mat.normal_texture].lookup(uv)), mat.normal_scale);
+                    const vec3 n = normal_mapped(scene, hit.prim, hit.u, hit.v, m_sf,
+                                                 vec3(scene.textures[mat.normal_texture].lookup(uv)), mat.normal_scale);
+                    // Bent where a grazing view would reflect below the surface (a flat texel leaves ns as it is).
+                    if (n != m_sf.ns) m_sf.ns = valid_reflection_normal(m_sf.ng, -m_ray.d, n);
                 }
                 m_front = glm::dot(-m_ray.d, m_sf.ng) > 0.f;
                 // Emission found by the BSDF-sampled ray; with NEE it is weighted so it is never counted twice.
