@@ -204,6 +204,12 @@ void set_base_color(Bsdf& bsdf, vec3 color) {
     if (auto* m = std::get_if<MetallicRoughness>(&bsdf)) m->base_color = glm::clamp(color, vec3(0.f), vec3(1.f));
 }
 
+void multiply_base_color(Bsdf& bsdf, vec3 c) {
+    if (auto* l = std::get_if<Lambertian>(&bsdf)) l->albedo *= c;
+    if (auto* g = std::get_if<Glossy>(&bsdf)) g->diffuse *= c;
+    if (auto* m = std::get_if<MetallicRoughness>(&bsdf)) m->base_color *= c;
+}
+
 const char* bsdf_type_name(const Bsdf& bsdf) {
     static const char* names[] = {"diffuse", "mirror", "glass", "glossy", "metallic-roughness"};
     static_assert(std::variant_size_v<Bsdf> == sizeof names / sizeof names[0]);

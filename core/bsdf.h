@@ -93,6 +93,9 @@ const char* bsdf_type_name(const Bsdf& bsdf);
 // Sets the diffuse colour (Lambertian albedo, Glossy diffuse clamped so diffuse + specular <= 1, MetallicRoughness
 // base colour clamped to [0, 1]); others unchanged.
 void set_base_color(Bsdf& bsdf, vec3 color);
+// Multiplies that diffuse colour by `c` in [0, 1]^3 (a glTF COLOR_0 over the factor or texel); the products stay
+// within set_base_color's bounds.
+void multiply_base_color(Bsdf& bsdf, vec3 c);
 
 // GGX (Trowbridge-Reitz) helpers, isotropic; exposed for tests.
 float ggx_d(vec3 h, float alpha);

@@ -12,6 +12,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "core/error.h"
@@ -92,8 +93,9 @@ struct Loader {
     // triangles' set-0 uvs; pathview's base colour and alpha lookups read set 0 untransformed).
     std::vector<UvTransform> base_uv;
     uint32_t default_material = kNoIndex;
-    std::map<int, uint32_t> image_texture;  // glTF image -> Scene::textures index (as decoded)
-    std::set<std::string> warned;           // one warning per kind
+    // (glTF image, wrap s, wrap t) -> Scene::textures index (as decoded, with the sampler's wrap modes)
+    std::map<std::tuple<int, TextureWrap, TextureWrap>, uint32_t> image_texture;
+    std::set<std::string> warned;  // one warning per kind
 
     size_t budget = kMinInstancingBudget;  // vertices and triangles at most (set from the buffers' size)
     size_t skipped_points_lines = 0, dropped_nonfinite = 0, dropped_degenerate = 0, visits = 0;
@@ -346,7 +348,8 @@ struct Loader {
     void traverse(int scene_index);
 
     // ---- Materials ----
-    uint32_t image_texture_index(int image);
+    uint32_t image_texture_index(int image, TextureWrap s, TextureWrap t);
+    TextureWrap wrap_mode(int gl, const std::string& at);
     uint32_t texture_of(const tinygltf::TextureInfo& info, const std::string& at, UvTransform& uv);
     void convert_materials();
     uint32_t material_index(int gltf_material, const std::string& at);

@@ -52,18 +52,38 @@ Bsdf gltf_bsdf(const GltfMaterial& g) {
 
 // ---- Materials ----
 
-uint32_t Loader::image_texture_index(int image) {
-    if (auto it = image_texture.find(image); it != image_texture.end()) return it->second;
+uint32_t Loader::image_texture_index(int image, TextureWrap ws, TextureWrap wt) {
+    const auto key = std::make_tuple(image, ws, wt);
+    if (auto it = image_texture.find(key); it != image_texture.end()) return it->second;
     const auto img = images.find(image);
     if (img == images.end()) return kNoIndex;
     scene->textures.push_back(img->second);
+    scene->textures.back().set_wrap(ws, wt);
     const uint32_t id = uint32_t(scene->textures.size() - 1);
-    image_texture[image] = id;
+    image_texture[key] = id;
     return id;
 }
 
-// The decoded image a texture reference names (kNoIndex, with a warning, if none), and in `uv` its texture
-// coordinate set and KHR_texture_transform (in glTF's uv space).
+// A glTF sampler's wrapS or wrapT (10497 REPEAT, 33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT) as a TextureWrap;
+// any other value repeats, with a warning naming it.
+TextureWrap Loader::wrap_mode(int gl, const std::string& at) {
+    switch (gl) {
+        case TINYGLTF_TEXTURE_WRAP_REPEAT:
+            return TextureWrap::Repeat;
+        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+            return TextureWrap::ClampToEdge;
+        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+            return TextureWrap::MirroredRepeat;
+        default:
+            warn_once(at,
+                      at + ": wrap mode " + std::to_string(gl) +
+                          " is not one of 10497 (REPEAT), 33071 (CLAMP_TO_EDGE), 33648 (MIRRORED_REPEAT); REPEAT used");
+            return TextureWrap::Repeat;
+    }
+}
+
+// The decoded image a texture reference names (kNoIndex, with a warning, if none), with its sampler's wrap modes,
+// and in `uv` its texture coordinate set and KHR_texture_transform (in glTF's uv space).
 uint32_t Loader::texture_of(const tinygltf::TextureInfo& info, const std::string& at, UvTransform& uv) {
     uv = UvTransform{};
     if (info.index < 0) return kNoIndex;
@@ -73,13 +93,14 @@ uint32_t Loader::texture_of(const tinygltf::TextureInfo& info, const std::string
     }
     const tinygltf::Texture& texture = model.textures[size_t(info.index)];
     const int source = texture.source;
+    TextureWrap ws = TextureWrap::Repeat, wt = TextureWrap::Repeat;  // no sampler: repeat (the specification)
     if (texture.sampler >= 0 && size_t(texture.sampler) < model.samplers.size()) {
         const tinygltf::Sampler& sm = model.samplers[size_t(texture.sampler)];
-        if (sm.wrapS != TINYGLTF_TEXTURE_WRAP_REPEAT || sm.wrapT != TINYGLTF_TEXTURE_WRAP_REPEAT)
-            warn_once("wrap", ptr({"samplers", str(size_t(texture.sampler))}) +
-                                  ": clamped or mirrored wrapping is not supported; textures repeat");
+        const std::string s_at = ptr({"samplers", str(size_t(texture.sampler))});
+        ws = wrap_mode(sm.wrapS, s_at + "/wrapS");
+        wt = wrap_mode(sm.wrapT, s_at + "/wrapT");
     }
-    const uint32_t id = source >= 0 ? image_texture_index(source) : kNoIndex;
+    const uint32_t id = source >= 0 ? image_texture_index(source, ws, wt) : kNoIndex;
     if (id == kNoIndex) {
         warn_once(at, at + ": texture " + std::to_string(info.index) +
                           " has no decodable image (see the image's warning); flat colour used");
@@ -161,7 +182,9 @@ void Loader::convert_materials() {
                     t = vec4(vec3(t) * vec3(g.base_color), t.w * g.base_color.w);
                     if (mask) t.w = t.w >= cutoff ? 1.f : 0.f;
                 }
+                const TextureWrap ws = src.wrap_s(), wt = src.wrap_t();  // src moves when textures grows
                 s.textures.emplace_back(src.width(), src.height(), std::move(texels));
+                s.textures.back().set_wrap(ws, wt);
                 m.base_color_texture = uint32_t(s.textures.size() - 1);
                 if (alpha_used) m.alpha_texture = m.base_color_texture;
             }
@@ -186,7 +209,9 @@ void Loader::convert_materials() {
                 const Texture& src = s.textures[mr_tex];
                 std::vector<vec4> texels = src.texels();
                 for (vec4& t : texels) t = vec4(linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z), t.w);
+                const TextureWrap ws = src.wrap_s(), wt = src.wrap_t();  // src moves when textures grows
                 s.textures.emplace_back(src.width(), src.height(), std::move(texels));
+                s.textures.back().set_wrap(ws, wt);
                 m.metallic_roughness_texture = uint32_t(s.textures.size() - 1);
                 // The texel may lower metallic anywhere in [0, factor]: the material carries every lobe of that
                 // range (a metallic factor of 1 alone would have no diffuse or specular lobe).
@@ -220,7 +245,9 @@ void Loader::convert_materials() {
                     const Texture& src = s.textures[n_tex];
                     std::vector<vec4> texels = src.texels();
                     for (vec4& t : texels) t = vec4(linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z), t.w);
+                    const TextureWrap ws = src.wrap_s(), wt = src.wrap_t();  // src moves when textures grows
                     s.textures.emplace_back(src.width(), src.height(), std::move(texels));
+                    s.textures.back().set_wrap(ws, wt);
                     m.normal_texture = uint32_t(s.textures.size() - 1);
                     const float sc = finite_or(gm.normalTexture.scale, 1.f);
                     m.normal_scale = sc;

@@ -7,14 +7,6 @@
 namespace pv {
 
 namespace {
-// Multiplies the diffuse colour (the one set_base_color sets) by `c` in [0, 1]^3: a glTF COLOR_0 over the factor or
-// texel. The products stay within set_base_color's bounds.
-void multiply_base_color(Bsdf& bsdf, vec3 c) {
-    if (auto* l = std::get_if<Lambertian>(&bsdf)) l->albedo *= c;
-    if (auto* g = std::get_if<Glossy>(&bsdf)) g->diffuse *= c;
-    if (auto* m = std::get_if<MetallicRoughness>(&bsdf)) m->base_color *= c;
-}
-
 // Power heuristic with beta = 2 (Veach 1997, sec. 9.2.4), written to stay finite for huge pdfs.
 inline float power_heuristic(float pa, float pb) {
     if (!(pa > 0.f)) return 0.f;
@@ -127,8 +119,10 @@ bool PathWalker::step_with() {
                 // A normal map tilts the shading normal (materials without one skip this).
                 if (mat.normal_texture != kNoIndex) [[unlikely]] {
                     const vec2 uv = kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
-                    m_sf.ns = normal_mapped(scene, hit.prim, hit.u, hit.v, m_sf,
-                                            vec3(scene.textures[mat.normal_texture].lookup(uv)), mat.normal_scale);
+                    const vec3 n = normal_mapped(scene, hit.prim, hit.u, hit.v, m_sf,
+                                                 vec3(scene.textures[mat.normal_texture].lookup(uv)), mat.normal_scale);
+                    // Bent where a grazing view would reflect below the surface (a flat texel leaves ns as it is).
+                    if (n != m_sf.ns) m_sf.ns = valid_reflection_normal(m_sf.ng, -m_ray.d, n);
                 }
                 m_front = glm::dot(-m_ray.d, m_sf.ng) > 0.f;
                 // Emission found by the BSDF-sampled ray; with NEE it is weighted so it is never counted twice.

@@ -2,6 +2,7 @@
 // materials without a normal map never reach it).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/scene.h"
@@ -61,6 +62,33 @@ inline vec3 normal_mapped(const Scene& s, uint32_t prim, float u, float v, const
     if (!(l2 > 1e-12f) || !std::isfinite(l2)) return N;
     const vec3 ns = n / std::sqrt(l2);
     return glm::dot(ns, sf.ng) > 0.f ? ns : N;  // tilted below the surface: the interpolated normal
+}
+
+// The shading normal n bent toward the geometric normal ng, in their plane, just enough that the mirror reflection of
+// wo about it stays above the surface: its component along ng at least min(0.9 (wo . ng), 0.01) (Cycles'
+// ensure_valid_reflection, with which Blender renders normal maps); n itself when it already is. Without the bend, a
+// view grazing a normal tilted away from it lost the map at once (Veach's rule in shading_normals shades with ng
+// where wo is behind the shading normal): flat, sharp-edged patches in the bumps at grazing angles, which made a
+// normal map look stronger than in Blender. The result keeps wo in front of it (so that rule no longer applies). n
+// and ng unit and on one side, wo unit on either side (the bend is made on wo's side).
+inline vec3 valid_reflection_normal(vec3 ng, vec3 wo, vec3 n) {
+    const float side = glm::dot(wo, ng) < 0.f ? -1.f : 1.f;
+    const vec3 g = side * ng, m = side * n;
+    const float iz = glm::dot(wo, g);
+    const float threshold = std::min(0.9f * iz, 0.01f);
+    if (glm::dot(2.f * glm::dot(m, wo) * m - wo, g) >= threshold) return n;
+    // m = cos(phi0) g + sin(phi0) x. The reflection about cos(phi) g + sin(phi) x has the component
+    // |w| cos(2 phi - alpha) along g, w = (wo . x, wo . g), alpha = atan2(wo . x, wo . g): at least the threshold for
+    // 2 phi up to alpha + acos(threshold / |w|), where it is the threshold.
+    const vec3 xo = m - glm::dot(m, g) * g;
+    const float xl = glm::length(xo);
+    if (!(xl > 1e-7f)) return ng;
+    const vec3 x = xo / xl;
+    const float phi0 = std::atan2(xl, glm::dot(m, g));
+    const float ix = glm::dot(wo, x), len = std::sqrt(ix * ix + iz * iz);
+    if (!(len > threshold)) return ng;
+    const float psi = glm::clamp(std::atan2(ix, iz) + std::acos(threshold / len), 0.f, 2.f * phi0);
+    return side * (std::cos(0.5f * psi) * g + std::sin(0.5f * psi) * x);
 }
 
 }  // namespace pv

@@ -294,6 +294,10 @@ uint64_t scene_hash(const Scene& scene, const std::vector<Material>& materials, 
         h.value(t.width());
         h.value(t.height());
         h.vector(t.texels());
+        if (t.wrap_s() != TextureWrap::Repeat || t.wrap_t() != TextureWrap::Repeat) {  // glTF only: OBJ as before
+            h.value(uint8_t(t.wrap_s()));
+            h.value(uint8_t(t.wrap_t()));
+        }
     }
     h.value(scene.environment_map);
     h.value(env.background);

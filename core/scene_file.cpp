@@ -12,6 +12,7 @@
 #include "core/image_io.h"
 #include "core/material_params.h"
 #include "core/obj_loader.h"
+#include "core/start_view.h"
 
 namespace pv {
 namespace {
@@ -212,7 +213,9 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     scene.warnings.insert(scene.warnings.end(), warnings.begin(), warnings.end());
     const JsonReader rs{path, &scene.warnings};
     if (j.contains("background")) scene.environment.background = r.vec(j["background"], root / "background", 0.f, kBig);
-    if (!scene.has_camera) scene.camera = scene.framing_camera();
+    // No camera in the file: the start view (core/start_view.h), unless "camera" gives one (over the framing).
+    if (!scene.has_camera)
+        scene.camera = j.contains("camera") ? scene.framing_camera() : choose_start_view(scene).camera;
     if (j.contains("camera")) {
         scene.camera = read_camera(r, cam, root / "camera", scene.camera, false);
         scene.has_camera = true;
@@ -353,8 +356,8 @@ Scene load_scene(const std::string& path) {
         return load_scene_json_text(read_regular_file(path, kMaxJsonBytes, "a JSON scene file"), path);
     if (ext == ".obj" || ext == ".OBJ" || is_gltf_path(path)) {
         Scene scene = is_gltf_path(path) ? load_gltf(path) : load_obj(path);
-        if (!scene.has_camera) scene.camera = scene.framing_camera();
-        use_default_sky_if_unlit(scene, !scene.punctual_lights.empty());  // a glTF's punctual lights light it
+        if (!scene.has_camera) scene.camera = choose_start_view(scene).camera;  // inside an interior, else framed
+        use_default_sky_if_unlit(scene, !scene.punctual_lights.empty());        // a glTF's punctual lights light it
         pack_texels(scene.textures);  // the surfaces' textures and the sky in one region, on huge pages
         return scene;
     }

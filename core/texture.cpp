@@ -410,6 +410,42 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
     return finish(Texture(w, h, std::move(texels)));
 }
 
+namespace {
+
+// The texel indices of a bilinear pair along one axis, f and f + 1 for f the floor of the (finite) texel coordinate,
+// wrapped by `mode` into [0, n): the textures that do not repeat on both axes (glTF samplers) come here.
+void wrapped_pair(float f, int n, TextureWrap mode, uint64_t magic, size_t& i0, size_t& i1) {
+    switch (mode) {
+        case TextureWrap::Repeat: {
+            const auto i = static_cast<long long>(std::fabs(f) < 0x1p62f ? f : std::fmod(f, float(n)));
+            i0 = wrap_texel_index(i, n, magic);
+            i1 = i0 + 1 == size_t(n) ? 0 : i0 + 1;
+            return;
+        }
+        case TextureWrap::ClampToEdge: {
+            // Clamped as a float first: any finite f, however large, becomes an index in [-1, n].
+            const auto i = static_cast<long long>(std::clamp(f, -1.f, float(n)));
+            i0 = size_t(std::clamp<long long>(i, 0, n - 1));
+            i1 = size_t(std::clamp<long long>(i + 1, 0, n - 1));
+            return;
+        }
+        case TextureWrap::MirroredRepeat: {
+            // Period 2n: beyond 2^62 f is a whole number, and fmod in double reduces it exactly (2n is exact there).
+            const long long p = 2ll * n;
+            const auto i = static_cast<long long>(std::fabs(f) < 0x1p62f ? double(f) : std::fmod(double(f), double(p)));
+            long long k = i % p;
+            if (k < 0) k += p;
+            const long long k1 = k + 1 == p ? 0 : k + 1;
+            i0 = size_t(k < n ? k : p - 1 - k);
+            i1 = size_t(k1 < n ? k1 : p - 1 - k1);
+            return;
+        }
+    }
+    i0 = i1 = 0;
+}
+
+}  // namespace
+
 // The four texels of a bilinear lookup at uv and their weights; not valid for a non-finite uv.
 inline TexelFootprint Texture::footprint(vec2 uv) const {
     TexelFootprint fp;
@@ -426,9 +462,15 @@ inline TexelFootprint Texture::footprint(vec2 uv) const {
     const auto whole = [](float f, int n) {
         return static_cast<long long>(std::fabs(f) < 0x1p62f ? f : std::fmod(f, float(n)));
     };
-    const long long ix = whole(fx, m_width), iy = whole(fy, m_height);
-    const size_t x0 = wrap_texel_index(ix, m_width, m_wrap_x), x1 = x0 + 1 == size_t(m_width) ? 0 : x0 + 1;
-    const size_t y0 = wrap_texel_index(iy, m_height, m_wrap_y), y1 = y0 + 1 == size_t(m_height) ? 0 : y0 + 1;
+    size_t x0, x1, y0, y1;
+    if (m_repeat) [[likely]] {  // one test per lookup, the same way for every lookup of this texture
+        const long long ix = whole(fx, m_width), iy = whole(fy, m_height);
+        x0 = wrap_texel_index(ix, m_width, m_wrap_x), x1 = x0 + 1 == size_t(m_width) ? 0 : x0 + 1;
+        y0 = wrap_texel_index(iy, m_height, m_wrap_y), y1 = y0 + 1 == size_t(m_height) ? 0 : y0 + 1;
+    } else {
+        wrapped_pair(fx, m_width, m_wrap_s, m_wrap_x, x0, x1);
+        wrapped_pair(fy, m_height, m_wrap_t, m_wrap_y, y0, y1);
+    }
     if (m_blocks) {
         const size_t b = m_blocks_per_row;
         fp.index[0] = tiled_index(x0, y0, b);

@@ -1,6 +1,7 @@
 // core/texture.h: 2D image textures for base colour (map_Kd) and alpha (map_d, or map_Kd's alpha channel).
 // Linear values (8-bit colour images are sRGB-decoded on load; HDR images are already linear); bilinear
-// lookup with repeat wrapping. uv follows OBJ: v = 0 is the bottom row of the image. A texture whose every texel
+// lookup, wrapping per axis as glTF's samplers do (repeat, the default and OBJ's; clamp to edge; mirrored repeat).
+// uv follows OBJ: v = 0 is the bottom row of the image. A texture whose every texel
 // is an 8-bit sRGB code (what an 8-bit image decodes to) is stored as those codes, 4 bytes a texel instead of 16,
 // and decoded per lookup through a 256-entry table: the same values, a quarter of the memory traffic. The codes are
 // tiled: 4x4 texels to a 64-byte block, one cache line, so a bilinear footprint touches 1.56 lines on average
@@ -45,6 +46,11 @@ inline size_t wrap_texel_index(long long i, int n, uint64_t magic) {
     return i >= 0 || r == 0 ? r : size_t(n) - r;
 }
 
+// How a lookup wraps texel indices outside [0, n) on one axis: glTF's sampler wrapS / wrapT (OpenGL's meaning).
+// Repeat: i mod n. ClampToEdge: the edge texel, min(max(i, 0), n - 1). MirroredRepeat: period 2n, the second half
+// mirrored: k = i mod 2n, then k < n ? k : 2n - 1 - k.
+enum class TextureWrap : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
+
 class Texture {
 public:
     Texture() = default;
@@ -69,7 +75,7 @@ public:
     static Texture decode(std::string bytes, const std::string& name, bool alpha_only = false,
                           std::vector<std::string>* warnings = nullptr);
 
-    vec4 lookup(vec2 uv) const;  // bilinear, repeat wrap
+    vec4 lookup(vec2 uv) const;  // bilinear, wrapped as wrap_s() and wrap_t() say (repeat unless set)
     // Starts loading the texels lookup(uv) reads into the cache without waiting for them (no effect on results): a
     // caller with other work to do before the lookup (a shadow ray to trace) hides the cache miss behind it. Returns
     // their footprint, for lookup(footprint) = lookup(uv), the same bits.
@@ -78,6 +84,15 @@ public:
     int width() const { return m_width; }
     int height() const { return m_height; }
     bool has_alpha() const { return m_has_alpha; }
+    // The wrap along u (s, the image's columns) and v (t, its rows); both Repeat unless set. Chosen once per
+    // texture: a lookup of a texture that repeats on both axes takes the repeat path with no test per texel.
+    void set_wrap(TextureWrap s, TextureWrap t) {
+        m_wrap_s = s;
+        m_wrap_t = t;
+        m_repeat = s == TextureWrap::Repeat && t == TextureWrap::Repeat;
+    }
+    TextureWrap wrap_s() const { return m_wrap_s; }
+    TextureWrap wrap_t() const { return m_wrap_t; }
     size_t bytes() const { return m_blocks ? m_count * sizeof(CodeBlock) : m_texels ? m_count * sizeof(vec4) : 0; }
     // Where the texels are (pack_texels, tests): the first byte of their storage, or null for an empty texture.
     const void* storage() const { return m_blocks ? static_cast<const void*>(m_blocks.get()) : m_texels.get(); }
@@ -103,6 +118,8 @@ private:
     uint64_t m_wrap_x = 0, m_wrap_y = 0;  // wrap_magic(m_width), wrap_magic(m_height)
     size_t m_blocks_per_row = 0;
     bool m_has_alpha = false;
+    bool m_repeat = true;  // m_wrap_s and m_wrap_t both Repeat
+    TextureWrap m_wrap_s = TextureWrap::Repeat, m_wrap_t = TextureWrap::Repeat;
     // The storage, shared by copies (it never changes) and owned through the pointers: a vector of the texture's
     // own, or a region shared with the scene's other textures (pack_texels). One of the two is set, or neither.
     std::shared_ptr<const vec4> m_texels;       // linear texels, row-major, when not every texel is an 8-bit code

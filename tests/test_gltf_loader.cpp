@@ -18,6 +18,7 @@
 #include "core/bsdf_pbr.h"
 #include "core/error.h"
 #include "core/gltf_loader.h"
+#include "core/normal_map.h"
 #include "core/obj_loader.h"
 #include "core/scene_file.h"
 #include "tests/support/scenes.h"
@@ -528,6 +529,140 @@ TEST(GltfLoader, NormalTextureIsLinearWithItsScaleAndTangentsFromTheFile) {
     EXPECT_EQ(s.tangents[s.tangent_indices[0].x], vec4(1, 0, 0, 1));
     EXPECT_EQ(s.tangents[s.tangent_indices[1].x], vec4(-1, 0, 0, -1));
     EXPECT_EQ(s.tangent_indices[2].x, kNoIndex) << "no TANGENT: from the uvs at the hit";
+}
+
+// Samplers' wrapS / wrapT reach every texture the loader makes of an image: the base colour as it is and baked with
+// its factor, the metallic-roughness, normal and emissive textures. One image under two samplers is two textures;
+// no sampler, or a sampler without wrap modes, repeats; an invalid mode repeats with a warning naming it.
+TEST(GltfLoader, SamplerWrapModesReachEveryTexture) {
+    Gltf g;
+    const uint8_t px[4][4] = {{255, 255, 255, 255}, {255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}};
+    g.j["images"] = {{{"bufferView", g.view(tga_2x2(px))}, {"mimeType", "image/png"}}};
+    g.j["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}},
+                       {{"wrapS", 33648}, {"wrapT", 10497}},
+                       {{"wrapT", 33071}},
+                       json::object(),
+                       {{"wrapS", 1234}}};
+    g.j["textures"] = {{{"source", 0}, {"sampler", 0}},
+                       {{"source", 0}, {"sampler", 1}},
+                       {{"source", 0}, {"sampler", 2}},
+                       {{"source", 0}, {"sampler", 3}},
+                       {{"source", 0}},
+                       {{"source", 0}, {"sampler", 4}}};
+    g.j["materials"] = {
+        {{"name", "clamp-mirror"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}},
+        {{"name", "baked mirror-repeat"},
+         {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 1, 1, 1}}, {"baseColorTexture", {{"index", 1}}}}}},
+        {{"name", "data"},
+         {"pbrMetallicRoughness", {{"metallicRoughnessTexture", {{"index", 1}}}}},
+         {"normalTexture", {{"index", 0}}},
+         {"emissiveFactor", {1, 1, 1}},
+         {"emissiveTexture", {{"index", 0}}}},
+        {{"name", "repeat-clamp"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 2}}}}}},
+        {{"name", "empty sampler"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 3}}}}}},
+        {{"name", "no sampler"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 4}}}}}},
+        {{"name", "invalid"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 5}}}}}}};
+    const int pos = g.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    const int uv = g.floats({0, 0, 1, 0, 0, 1}, "VEC2", 2);
+    json roots = json::array();
+    for (int m = 0; m < 7; ++m)
+        roots.push_back(g.node({{"mesh", g.mesh({{"POSITION", pos}, {"TEXCOORD_0", uv}}, -1, -1, m)}}));
+    g.scene(roots);
+    const Scene s = load(g.glb(), "wrap.glb");
+    using W = TextureWrap;
+    auto modes = [&](uint32_t t) {
+        EXPECT_NE(t, kNoIndex);
+        return t == kNoIndex ? std::pair{W::Repeat, W::Repeat}
+                             : std::pair{s.textures[t].wrap_s(), s.textures[t].wrap_t()};
+    };
+    ASSERT_EQ(s.materials.size(), 7u);
+    EXPECT_EQ(modes(s.materials[0].base_color_texture), std::pair(W::ClampToEdge, W::MirroredRepeat));
+    EXPECT_EQ(modes(s.materials[1].base_color_texture), std::pair(W::MirroredRepeat, W::Repeat)) << "baked copy";
+    EXPECT_EQ(modes(s.materials[2].metallic_roughness_texture), std::pair(W::MirroredRepeat, W::Repeat));
+    EXPECT_EQ(modes(s.materials[2].normal_texture), std::pair(W::ClampToEdge, W::MirroredRepeat));
+    EXPECT_EQ(modes(s.materials[2].emissive_texture), std::pair(W::ClampToEdge, W::MirroredRepeat));
+    EXPECT_EQ(s.materials[2].emissive_texture, s.materials[0].base_color_texture) << "same image, same sampler";
+    EXPECT_EQ(modes(s.materials[3].base_color_texture), std::pair(W::Repeat, W::ClampToEdge));
+    EXPECT_EQ(modes(s.materials[4].base_color_texture), std::pair(W::Repeat, W::Repeat));
+    EXPECT_EQ(modes(s.materials[5].base_color_texture), std::pair(W::Repeat, W::Repeat));
+    EXPECT_EQ(modes(s.materials[6].base_color_texture), std::pair(W::Repeat, W::Repeat));
+    // A lookup outside [0, 1] follows the mode: texel (0, 0) is white, (1, 0) red (row 0 on top, v up).
+    const Texture& clamp_mirror = s.textures[s.materials[0].base_color_texture];
+    EXPECT_EQ(clamp_mirror.lookup(vec2(-3.f, 0.75f)), vec4(1.f)) << "clamped to column 0";
+    EXPECT_EQ(clamp_mirror.lookup(vec2(5.f, 0.75f)), vec4(1.f, 0.f, 0.f, 1.f)) << "clamped to column 1";
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("/samplers/4/wrapS: wrap mode 1234"), std::string::npos) << s.warnings[0];
+}
+
+// The normal map's tangent space as the glTF specification defines it, from a file: red is +X, toward increasing u
+// (the image's right); green is +Y, up the image, toward decreasing glTF v (glTF's v runs down the image: row 0 is
+// v = 0); the TANGENT's w gives the bitangent w cross(N, T); the scale multiplies X and Y. A unit quad in the xy plane
+// facing +z, its image upright (glTF v = 1 - y) or mirrored left to right (u = 1 - x), its tangent space from the
+// uvs or from a TANGENT attribute: the shading normal normal_mapped gives (the integrator's) is the texel's
+// normal in that frame, and a mirror about it reflects a ray as the closed form says.
+TEST(GltfLoader, NormalMapTangentSpaceFollowsTheSpecificationsConvention) {
+    const uint8_t code[3] = {160, 215, 230};  // x, y, z > 0: tilted right and up the image
+    const uint8_t px[4][4] = {{code[0], code[1], code[2], 255},
+                              {code[0], code[1], code[2], 255},
+                              {code[0], code[1], code[2], 255},
+                              {code[0], code[1], code[2], 255}};
+    const vec3 t = 2.f * vec3(code[0], code[1], code[2]) / 255.f - 1.f;  // the texel's tangent-space normal
+    struct Case {
+        const char* name;
+        bool mirrored_u;  // u = 1 - x: the image's right is -x
+        int tangent_w;    // 0: no TANGENT (from the uvs); else TANGENT = (+-1, 0, 0, w) along increasing u
+        float scale;
+        vec3 right, up;  // the image's right and up on the quad, in world space (the spec's +X and +Y)
+    };
+    const Case cases[] = {
+        {"upright, from uvs", false, 0, 1.f, vec3(1, 0, 0), vec3(0, 1, 0)},
+        {"upright, TANGENT w = 1", false, 1, 1.f, vec3(1, 0, 0), vec3(0, 1, 0)},
+        {"upright, scale 0.5", false, 0, 0.5f, vec3(1, 0, 0), vec3(0, 1, 0)},
+        {"mirrored, from uvs", true, 0, 1.f, vec3(-1, 0, 0), vec3(0, 1, 0)},
+        {"mirrored, TANGENT w = -1", true, -1, 1.f, vec3(-1, 0, 0), vec3(0, 1, 0)},
+    };
+    for (const Case& c : cases) {
+        Gltf g;
+        g.j["images"] = {{{"bufferView", g.view(tga_2x2(px))}, {"mimeType", "image/png"}}};
+        g.j["textures"] = {{{"source", 0}}};
+        g.j["materials"] = {{{"normalTexture", {{"index", 0}, {"scale", c.scale}}}}};
+        const int pos = g.floats({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, "VEC3", 3);
+        const int nrm = g.floats({0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1}, "VEC3", 3);
+        std::vector<float> uv;
+        for (const vec2 p : {vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 1)}) {
+            uv.push_back(c.mirrored_u ? 1.f - p.x : p.x);
+            uv.push_back(1.f - p.y);  // glTF's v runs down the image: the image's top row is at y = 1
+        }
+        json attributes = {{"POSITION", pos}, {"NORMAL", nrm}, {"TEXCOORD_0", g.floats(uv, "VEC2", 2)}};
+        if (c.tangent_w) {
+            const float tx = c.mirrored_u ? -1.f : 1.f, w = float(c.tangent_w);
+            attributes["TANGENT"] = g.floats({tx, 0, 0, w, tx, 0, 0, w, tx, 0, 0, w, tx, 0, 0, w}, "VEC4", 4);
+        }
+        const int idx = g.accessor(g.view(bytes_of<uint16_t>({0, 1, 2, 0, 2, 3})), kUShort, 6, "SCALAR");
+        g.scene(json::array({g.node({{"mesh", g.mesh(attributes, idx, -1, 0)}})}));
+        const Scene s = load(g.text(), "normal-convention.gltf");
+        ASSERT_EQ(s.triangle_count(), 2u) << c.name;
+        ASSERT_NE(s.materials[0].normal_texture, kNoIndex) << c.name;
+        const Texture& map = s.textures[s.materials[0].normal_texture];
+        // The specification: n = normalize(X right + Y up + Z N) with (X, Y, Z) = (2 texel - 1) (scale, scale, 1).
+        const vec3 want = glm::normalize(c.scale * t.x * c.right + c.scale * t.y * c.up + t.z * vec3(0, 0, 1));
+        for (uint32_t prim = 0; prim < 2; ++prim) {
+            Hit hit;
+            hit.prim = prim;
+            hit.u = hit.v = 1.f / 3.f;
+            const SurfacePoint sf = surface_point(s, hit);
+            ASSERT_NEAR(sf.ng.z, 1.f, 1e-6f);
+            const vec3 texel = vec3(map.lookup(s.uv_at(prim, hit.u, hit.v)));
+            const vec3 n = normal_mapped(s, prim, hit.u, hit.v, sf, texel, s.materials[0].normal_scale);
+            expect_near(n, want, 2e-3f);
+            // A mirror about it: a ray coming straight down the z axis leaves along 2 (n . wo) n - wo.
+            const vec3 wo(0, 0, 1), r = 2.f * glm::dot(n, wo) * n - wo;
+            const vec3 closed_form = 2.f * want.z * want - wo;
+            expect_near(r, closed_form, 4e-3f);
+            EXPECT_GT(glm::dot(r, c.right), 0.f) << c.name << ": tilted toward the image's right (+X)";
+            EXPECT_GT(glm::dot(r, c.up), 0.f) << c.name << ": tilted toward the image's top (+Y)";
+        }
+    }
 }
 
 TEST(GltfLoader, MetallicRoughnessTextureIsLinearAndKeepsTheLobesItsTexelsNeed) {

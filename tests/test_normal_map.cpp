@@ -112,6 +112,53 @@ TEST(NormalMap, TangentsFromTheFileOrTheUvsOrAnyFrameWhereUvsAreDegenerate) {
     EXPECT_EQ(normal_mapped(*s, 0, 0.2f, 0.3f, sf, vec3(0.f, 0.5f, 0.5f), 20.f), sf.ns);
 }
 
+// A map's normal tilted 30 degrees away from a viewer who sweeps from overhead down to grazing (and the same seen
+// from below the surface): where the mirror reflection about the mapped normal stays above the surface the normal is
+// kept bit for bit; below that it is bent toward the geometric normal, in their plane, just so far that the reflection
+// leaves at min(0.9 cos, 0.01) above the surface (Cycles' rule), and it changes continuously with the view: no jump
+// to the flat normal (what Veach's rule gave before, sharp-edged flat patches in the bumps at grazing views).
+TEST(NormalMap, GrazingViewsBendTheMappedNormalContinuouslyAsCyclesDoes) {
+    const float tilt = glm::radians(30.f);
+    for (const float side : {1.f, -1.f}) {
+        const vec3 ng(0.f, 0.f, side);
+        const vec3 n(0.f, std::sin(tilt), side * std::cos(tilt));  // tilted toward +y
+        vec3 last(0.f);
+        int kept = 0, bent = 0;
+        for (int k = 1; k <= 890; ++k) {
+            const float e = glm::radians(0.1f * float(k));                // elevation of the view
+            const vec3 wo = vec3(0.f, -std::cos(e), side * std::sin(e));  // from the -y side: away from the tilt
+            const vec3 b = valid_reflection_normal(ng, wo, n);
+            const vec3 r = 2.f * glm::dot(b, wo) * b - wo;
+            const float threshold = std::min(0.9f * std::sin(e), 0.01f);
+            const bool valid = glm::dot(2.f * glm::dot(n, wo) * n - wo, ng) >= threshold;
+            ASSERT_NEAR(glm::length(b), 1.f, 1e-5f) << k;
+            EXPECT_EQ(b.x, 0.f) << "in the plane of n and ng";
+            EXPECT_GE(glm::dot(b, ng), std::cos(tilt) - 1e-6f) << "between n and ng";
+            EXPECT_GT(glm::dot(b, wo), 0.f) << "wo in front of it";
+            if (valid) {
+                EXPECT_EQ(b, n) << "kept where the reflection is valid, elevation " << 0.1f * float(k);
+                ++kept;
+            } else {
+                EXPECT_NEAR(glm::dot(r, ng), threshold, 2e-4f) << "elevation " << 0.1f * float(k);
+                EXPECT_GT(glm::dot(b, ng), glm::dot(n, ng)) << "bent toward ng";
+                ++bent;
+            }
+            if (k > 1) {
+                EXPECT_LT(glm::length(b - last), 0.01f) << "continuous at elevation " << 0.1f * float(k);
+            }
+            last = b;
+        }
+        EXPECT_GT(kept, 100);
+        EXPECT_GT(bent, 100);
+    }
+    // A view toward the tilt, and a normal along ng: nothing to bend.
+    const vec3 n = vec3(0.f, std::sin(tilt), std::cos(tilt));
+    const vec3 toward = glm::normalize(vec3(0.f, 1.f, 0.02f));
+    EXPECT_EQ(valid_reflection_normal(vec3(0, 0, 1), toward, n), n);
+    EXPECT_EQ(valid_reflection_normal(vec3(0, 0, 1), glm::normalize(vec3(0.f, -1.f, 0.02f)), vec3(0, 0, 1)),
+              vec3(0, 0, 1));
+}
+
 TEST(NormalMap, FlatMapRendersTheImageOfNoMapBitForBit) {
     auto plain = std::make_shared<Scene>(*test::cornell_box());
     auto flat = std::make_shared<Scene>(*plain);
