@@ -168,7 +168,7 @@ TEST(ExtremeInputs, LightSetAtDegenerateReferencePoints) {
             for (float b : us)
                 for (float c : us) {
                     LightSample s;
-                    if (!lights.sample(ref, a, vec2(b, c), s)) continue;
+                    if (!lights.sample(ref, vec3(0.f), a, vec2(b, c), s)) continue;
                     EXPECT_TRUE(std::isfinite(s.pdf) && s.pdf > 0.f);
                     EXPECT_TRUE(is_finite(s.wi) && is_finite(s.le) && is_finite(s.p));
                     EXPECT_TRUE(s.dist > 0.f && std::isfinite(s.dist));
@@ -385,7 +385,8 @@ TEST(DegenerateGeometry, ZeroAreaEmitterIsNeverSampled) {
     Pcg32 g(1, 2);
     for (int i = 0; i < 100000; ++i) {
         LightSample s;
-        ASSERT_TRUE(lights.sample(vec3(0.2f, 0.f, 0.2f), g.next_float(), vec2(g.next_float(), g.next_float()), s));
+        ASSERT_TRUE(
+            lights.sample(vec3(0.2f, 0.f, 0.2f), vec3(0.f), g.next_float(), vec2(g.next_float(), g.next_float()), s));
         ASSERT_NEAR(s.p.y, 2.f, 1e-6f);
         ASSERT_TRUE(std::isfinite(s.pdf));
     }
