@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes assets/many-lights/many-lights.obj and .mtl: a 12 x 3 x 12 m room (metres, +y up) split into four by
 partition walls with doorways, lit only by 320 small lamps (octahedra of 3 to 8 cm radius, 8 one-sided emissive
-triangles each, 2560 in all) of radiances over five decades (0.3 to 30000), scattered by a fixed seed: most rooms
+triangles each, 2560 in all) of radiances over five decades (0.003 to 300), scattered by a fixed seed: most rooms
 hold many dim lamps and a few very bright ones. A many-light scene for the light tree (issue 29): a light sample
 chosen by power alone mostly picks a bright lamp in another room. Run from the repository root."""
 import math
@@ -33,7 +33,7 @@ def box(x0, x1, y0, y1, z0, z1):
 
 
 W, H, D = 12.0, 3.0, 12.0
-TIERS = [0.3, 1, 3, 10, 30, 100, 300, 1000, 3000, 10000, 30000]
+TIERS = [0.003, 0.01, 0.03, 0.1, 0.3, 1, 3, 10, 30, 100, 300]
 
 out.append("mtllib many-lights.mtl")
 out.append("usemtl walls")
@@ -80,8 +80,9 @@ for tier, ls in lamps.items():
         py, ny = (x, y + r, z), (x, y - r, z)
         pz, nz = (x, y, z + r), (x, y, z - r)
         for a, b in [(px, pz), (pz, nx), (nx, nz), (nz, px)]:
-            out.append("f %d %d %d" % (v(a), v(b), v(py)))
-            out.append("f %d %d %d" % (v(b), v(a), v(ny)))
+            # Outward winding (counter-clockwise seen from outside): the lamps emit outward.
+            out.append("f %d %d %d" % (v(b), v(a), v(py)))
+            out.append("f %d %d %d" % (v(a), v(b), v(ny)))
 
 os.makedirs("assets/many-lights", exist_ok=True)
 with open("assets/many-lights/many-lights.obj", "w") as f:
