@@ -11,14 +11,10 @@ namespace pv {
 
 namespace {
 
-// cos(max(0, a - b)) and sin(max(0, a - b)) from the sines and cosines of angles a, b in [0, pi].
+// cos(max(0, a - b)) from the sines and cosines of angles a, b in [0, pi].
 inline float cos_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b) {
     if (cos_a > cos_b) return 1.f;
     return cos_a * cos_b + sin_a * sin_b;
-}
-inline float sin_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b) {
-    if (cos_a > cos_b) return 0.f;
-    return sin_a * cos_b - cos_a * sin_b;
 }
 
 // Numerically stable for nearly parallel and nearly opposite unit vectors.
@@ -47,33 +43,50 @@ double orientation_cost(const LightBounds& b) {
 
 }  // namespace
 
-float LightBounds::importance(vec3 p, vec3 n) const {
-    const vec3 pc = 0.5f * (lo + hi);
-    const vec3 to_p = p - pc;
-    const float r2 = 0.25f * glm::dot(hi - lo, hi - lo);  // the bounding sphere's radius, squared
+PackedLightBounds::PackedLightBounds(const LightBounds& b)
+    : centre(0.5f * (b.lo + b.hi)),
+      radius(0.5f * glm::length(b.hi - b.lo)),
+      w(b.w),
+      phi(b.phi),
+      cos_o(b.cos_o),
+      sin_o(safe_sqrt(1.f - b.cos_o * b.cos_o)),
+      cos_e(b.cos_e),
+      two_sided(b.two_sided) {}
+
+float LightBounds::importance(vec3 p, vec3 n) const { return PackedLightBounds(*this).importance(p, n); }
+
+float PackedLightBounds::importance(vec3 p, vec3 n) const {
+    const vec3 to_p = p - centre;
     const float d2_true = glm::dot(to_p, to_p);
+    const float r2 = radius * radius;
+    // Distance falloff, with the distance at least the bounding sphere's radius.
     const float d2 = std::max(d2_true, r2);
     if (!(d2 > 0.f)) return 0.f;
-    const vec3 wi = safe_normalize(to_p);
+    const float inv_d = d2_true > 0.f ? 1.f / std::sqrt(d2_true) : 0.f;
+    const vec3 wi = to_p * inv_d;
     // The angle between the cone's axis and the direction to p.
     float cos_w = glm::dot(w, wi);
     if (two_sided) cos_w = std::fabs(cos_w);
-    const float sin_w = safe_sqrt(1.f - cos_w * cos_w);
-    // The half angle the bounding sphere subtends at p (everything when p is inside it).
-    const float cos_b = d2_true > r2 ? safe_sqrt(1.f - r2 / d2_true) : -1.f;
-    const float sin_b = safe_sqrt(1.f - cos_b * cos_b);
+    // The half angle theta_b the bounding sphere subtends at p (everything when p is inside it).
+    float sin_b = 0.f, cos_b = -1.f;
+    if (d2_true > r2) {
+        sin_b = radius * inv_d;
+        cos_b = safe_sqrt(1.f - sin_b * sin_b);
+    }
     // theta' = max(0, theta_w - theta_o - theta_b): the least angle between a normal and a direction to p.
-    const float sin_o = safe_sqrt(1.f - cos_o * cos_o);
-    const float cos_x = cos_sub_clamped(sin_w, cos_w, sin_o, cos_o);
-    const float sin_x = sin_sub_clamped(sin_w, cos_w, sin_o, cos_o);
-    const float cos_p = cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
-    if (cos_p <= cos_e) return 0.f;
+    float cos_p = 1.f;
+    if (cos_w < cos_o) {
+        const float sin_w = safe_sqrt(1.f - cos_w * cos_w);
+        const float cos_x = cos_w * cos_o + sin_w * sin_o;  // cos(theta_w - theta_o) > cos_w >= -1
+        const float sin_x = sin_w * cos_o - cos_w * sin_o;
+        cos_p = cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
+        if (cos_p <= cos_e) return 0.f;
+    }
     float importance = phi * cos_p / d2;
     if (n != vec3(0.f)) {
         // The receiver's cosine, at most cos(max(0, theta_i - theta_b)).
         const float cos_i = std::fabs(glm::dot(wi, n));
-        const float sin_i = safe_sqrt(1.f - cos_i * cos_i);
-        importance *= cos_sub_clamped(sin_i, cos_i, sin_b, cos_b);
+        if (cos_i < cos_b) importance *= cos_i * cos_b + safe_sqrt(1.f - cos_i * cos_i) * sin_b;
     }
     return std::isfinite(importance) ? std::max(importance, 0.f) : 0.f;
 }
@@ -150,7 +163,7 @@ uint32_t LightTree::build(std::vector<uint32_t>& order, size_t begin, size_t end
     m_nodes.emplace_back();
     if (end - begin == 1) {
         const uint32_t k = order[begin];
-        m_nodes[node].bounds = lights[k];
+        m_nodes[node].bounds = PackedLightBounds(lights[k]);
         m_nodes[node].index = k;
         m_nodes[node].leaf = true;
         m_trail[k] = trail;
@@ -229,7 +242,7 @@ uint32_t LightTree::build(std::vector<uint32_t>& order, size_t begin, size_t end
     }
     build(order, begin, mid, lights, trail, depth + 1);
     const uint32_t second = build(order, mid, end, lights, trail | (uint64_t(1) << depth), depth + 1);
-    m_nodes[node].bounds = all;
+    m_nodes[node].bounds = PackedLightBounds(all);
     m_nodes[node].index = second;
     m_nodes[node].leaf = false;
     return node;

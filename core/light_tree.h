@@ -32,6 +32,21 @@ struct LightBounds {
     float importance(vec3 p, vec3 n) const;
 };
 
+// LightBounds as the pick reads them: the box as its bounding sphere, the cone's sine precomputed, so that an
+// importance costs four square roots and two divisions. The same function as LightBounds::importance.
+struct PackedLightBounds {
+    vec3 centre{0.f};
+    float radius = 0.f;  // the box's half diagonal
+    vec3 w{0.f, 0.f, 1.f};
+    float phi = 0.f;
+    float cos_o = 1.f, sin_o = 0.f, cos_e = 0.f;
+    bool two_sided = false;
+
+    PackedLightBounds() = default;
+    explicit PackedLightBounds(const LightBounds& b);
+    float importance(vec3 p, vec3 n) const;
+};
+
 // Bounds of the union (the smallest cone around both cones, pbrt-v4's DirectionCone Union).
 LightBounds light_bounds_union(const LightBounds& a, const LightBounds& b);
 
@@ -57,7 +72,7 @@ public:
 
 private:
     struct Node {
-        LightBounds bounds;
+        PackedLightBounds bounds;
         uint32_t index = 0;  // a leaf: its emitter; an interior node: its second child (the first is the next node)
         bool leaf = false;
     };
