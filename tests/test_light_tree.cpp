@@ -9,6 +9,7 @@
 
 #include "core/light_tree.h"
 #include "core/lights.h"
+#include "core/partial.h"
 #include "core/rng.h"
 #include "core/warp.h"
 #include "tests/support/scenes.h"
@@ -254,6 +255,26 @@ TEST(LightTree, SamplePdfEqualsThePdfOfTheFoundEmitter) {
         }
     }
     EXPECT_GT(checked, 40000);
+}
+
+}  // namespace
+}  // namespace pv
+
+namespace pv {
+namespace {
+
+// The light sampler is part of the settings string partial renders record (core/partial.cpp): a tree render's parts
+// say so and read back as such, so a merge refuses to mix them with power parts; a power render's string is the
+// one of before the tree.
+TEST(LightSamplerSettings, RoundTripThroughTheSettingsString) {
+    RenderSettings power, tree;
+    tree.light_sampler = LightSamplerKind::Tree;
+    EXPECT_EQ(power.describe().find("light_sampler"), std::string::npos);
+    EXPECT_NE(tree.describe().find(" light_sampler=tree"), std::string::npos);
+    EXPECT_EQ(parse_settings(tree.describe(), "t"), tree);
+    EXPECT_EQ(parse_settings(power.describe(), "t"), power);
+    EXPECT_NE(power.describe(), tree.describe());
+    EXPECT_NE(power, tree);
 }
 
 }  // namespace
