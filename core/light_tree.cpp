@@ -59,9 +59,7 @@ float PackedLightBounds::importance(vec3 p, vec3 n) const {
     const vec3 to_p = p - centre;
     const float d2_true = glm::dot(to_p, to_p);
     const float r2 = radius * radius;
-    // Distance falloff, with the distance at least the bounding sphere's radius.
-    const float d2 = std::max(d2_true, r2);
-    if (!(d2 > 0.f)) return 0.f;
+    if (!(d2_true > 0.f) && !(r2 > 0.f)) return 0.f;
     const float inv_d = d2_true > 0.f ? 1.f / std::sqrt(d2_true) : 0.f;
     const vec3 wi = to_p * inv_d;
     // The angle between the cone's axis and the direction to p.
@@ -82,7 +80,8 @@ float PackedLightBounds::importance(vec3 p, vec3 n) const {
         cos_p = cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
         if (cos_p <= cos_e) return 0.f;
     }
-    float importance = phi * cos_p / d2;
+    // phi cos' / d2, d2 = max(|p - centre|^2, radius^2), without a second division where p is outside the sphere.
+    float importance = d2_true > r2 ? phi * cos_p * (inv_d * inv_d) : phi * cos_p / r2;
     if (n != vec3(0.f)) {
         // The receiver's cosine, at most cos(max(0, theta_i - theta_b)).
         const float cos_i = std::fabs(glm::dot(wi, n));
