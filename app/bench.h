@@ -16,8 +16,9 @@ struct BenchConfig {
     RenderSettings settings;
 };
 
-// Parses a comma-separated list of "estimator/rr/sampler" names (bsdf|nee|mis, rr|norr, ind|sobol, each may be
-// "*"; "all" = "*/*/*"). Throws pv::Error naming the bad entry.
+// Parses a comma-separated list of "estimator/rr/sampler[/light-sampler]" names (bsdf|nee|mis, rr|norr, ind|sobol,
+// power|tree, each may be "*"; "all" = "*/*/*"; without the fourth field, base's light sampler). Throws pv::Error
+// naming the bad entry.
 std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSettings& base);
 
 // One snapshot of one seed's render.

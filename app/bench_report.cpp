@@ -44,6 +44,7 @@ std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSett
     const char* estimators[] = {"bsdf", "nee", "mis"};
     const char* rrs[] = {"rr", "norr"};
     const char* samplers[] = {"ind", "sobol"};
+    const char* light_samplers[] = {"power", "tree"};
     std::vector<BenchConfig> out;
     for (std::string item : split(list, ',')) {
         if (item.empty()) continue;
@@ -51,28 +52,37 @@ std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSett
         const std::vector<std::string> f = split(item, '/');
         auto bad = [&] {
             return Error("--configs " + item +
-                         ": expected estimator/rr/sampler with estimator bsdf|nee|mis, "
-                         "rr rr|norr, sampler ind|sobol (each may be *), e.g. mis/rr/sobol, or all");
+                         ": expected estimator/rr/sampler[/light-sampler] with estimator bsdf|nee|mis, "
+                         "rr rr|norr, sampler ind|sobol, light sampler power|tree (each may be *), e.g. mis/rr/sobol, "
+                         "mis/rr/sobol/tree, or all");
         };
-        if (f.size() != 3) throw bad();
+        if (f.size() != 3 && f.size() != 4) throw bad();
+        // Without the fourth field, --light-sampler's choice and the names of before.
+        const bool with_light = f.size() == 4;
         bool matched = false;
         for (const char* e : estimators)
             for (const char* r : rrs)
-                for (const char* s : samplers) {
-                    if ((f[0] != "*" && f[0] != e) || (f[1] != "*" && f[1] != r) || (f[2] != "*" && f[2] != s))
-                        continue;
-                    matched = true;
-                    BenchConfig c;
-                    c.name = std::string(e) + "/" + r + "/" + s;
-                    c.settings = base;
-                    c.settings.light_sampling = std::string(e) != "bsdf";
-                    c.settings.mis = std::string(e) == "mis";
-                    c.settings.russian_roulette = std::string(r) == "rr";
-                    c.settings.sampler = std::string(s) == "sobol" ? SamplerKind::Sobol : SamplerKind::Independent;
-                    const bool dup =
-                        std::any_of(out.begin(), out.end(), [&](const BenchConfig& o) { return o.name == c.name; });
-                    if (!dup) out.push_back(c);
-                }
+                for (const char* s : samplers)
+                    for (const char* l : light_samplers) {
+                        if ((f[0] != "*" && f[0] != e) || (f[1] != "*" && f[1] != r) || (f[2] != "*" && f[2] != s))
+                            continue;
+                        if (with_light ? f[3] != "*" && f[3] != l
+                                       : std::string(l) != light_sampler_name(base.light_sampler))
+                            continue;
+                        matched = true;
+                        BenchConfig c;
+                        c.name = std::string(e) + "/" + r + "/" + s + (with_light ? std::string("/") + l : "");
+                        c.settings = base;
+                        c.settings.light_sampling = std::string(e) != "bsdf";
+                        c.settings.mis = std::string(e) == "mis";
+                        c.settings.russian_roulette = std::string(r) == "rr";
+                        c.settings.sampler = std::string(s) == "sobol" ? SamplerKind::Sobol : SamplerKind::Independent;
+                        c.settings.light_sampler =
+                            std::string(l) == "tree" ? LightSamplerKind::Tree : LightSamplerKind::Power;
+                        const bool dup =
+                            std::any_of(out.begin(), out.end(), [&](const BenchConfig& o) { return o.name == c.name; });
+                        if (!dup) out.push_back(c);
+                    }
         if (!matched) throw bad();
     }
     if (out.empty()) throw Error("--configs: no configuration given");

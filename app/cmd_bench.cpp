@@ -4,7 +4,10 @@
 // also measures Embree's raw ray rate on the same scene and ray mix (app/bench/raybench.h) and the path tracer's
 // fraction of it. Benchmarks report figures; they never fail on time.
 // The parts: bench/reference.h, bench/series.h, bench/ray_ceiling.h, and bench_report.cpp (tables, CSV, SVG).
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <memory>
 
@@ -18,7 +21,9 @@
 #include "app/progress.h"
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/light_tree.h"
 #include "core/renderer.h"
+#include "core/rng.h"
 #include "core/scene_file.h"
 
 namespace pv::app {
@@ -29,7 +34,46 @@ std::shared_ptr<Scene> load_bench_scene(const CommonOptions& o) {
     return std::make_shared<Scene>(load_scene(scene_path(o)));
 }
 
+// --light-tree: builds the light tree (core/light_tree.h) over 10^2..10^5 random emissive triangles (a cube of side
+// 10, sides 0.01..0.1, random orientations, powers over four decades) and prints the build's time (the best of a few
+// builds, CPU of this thread) and memory. Figures, no assertions.
+void light_tree_scaling() {
+    std::printf("## pathview bench --light-tree: build time and memory of the light tree\n\n");
+    std::printf("| emissive triangles | nodes | depth | build ms (best of %d) | memory MiB | bytes per emitter |\n", 3);
+    std::printf("|---:|---:|---:|---:|---:|---:|\n");
+    for (const int n : {100, 1000, 10000, 100000}) {
+        Pcg32 g(uint64_t(n), 1);
+        std::vector<LightBounds> bounds;
+        bounds.reserve(size_t(n));
+        auto u3 = [&] { return vec3(g.next_float(), g.next_float(), g.next_float()); };
+        for (int i = 0; i < n; ++i) {
+            const vec3 c = 10.f * u3();
+            const float s = 0.01f + 0.09f * g.next_float();
+            const vec3 p0 = c + s * (2.f * u3() - 1.f), p1 = c + s * (2.f * u3() - 1.f),
+                       p2 = c + s * (2.f * u3() - 1.f);
+            const float phi = std::pow(10.f, 4.f * g.next_float()) * 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
+            bounds.push_back(triangle_light_bounds(p0, p1, p2, phi, i % 3 == 0));
+        }
+        double best = 1e30;
+        LightTree tree;
+        for (int rep = 0; rep < 3; ++rep) {
+            timespec t0{}, t1{};
+            clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
+            tree = LightTree(bounds);
+            clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
+            best = std::min(best, double(t1.tv_sec - t0.tv_sec) * 1e3 + double(t1.tv_nsec - t0.tv_nsec) * 1e-6);
+        }
+        const double bytes = double(tree.memory_bytes());
+        std::printf("| %d | %zu | %d | %.2f | %.2f | %.0f |\n", n, tree.node_count(), tree.depth(), best,
+                    bytes / (1024.0 * 1024.0), bytes / n);
+    }
+}
+
 void run(BenchOptions& o) {
+    if (o.light_tree) {
+        light_tree_scaling();
+        return;
+    }
     resolve_switches(o.common);
     for (uint32_t spp : o.denoise_spp) {
         if ((spp & (spp - 1)) != 0)
@@ -107,7 +151,7 @@ void add_bench_command(CLI::App& app) {
         "time budget; table, equal-time comparison, slopes, CSV and SVG. Default: the built-in Cornell box "
         "at 128x128, 12 configurations x 4 seeds x 0.5 s, a 4096 spp reference (about a minute on 2 cores). SCENE may "
         "also be large-mesh (generated: the "
-        "Cornell box with a 1M-triangle displaced sphere)");
+        "Cornell box with a 1M-triangle displaced sphere) or many-lights (assets/many-lights: 320 small lamps)");
     add_common_options(*cmd, o->common);
     auto* ref = cmd->add_option("--reference", o->reference, "Reference EXR (same size) instead of rendering one");
     cmd->add_option("--reference-spp", o->reference_spp, "Samples per pixel of the rendered reference")
@@ -124,8 +168,8 @@ void add_bench_command(CLI::App& app) {
         ->check(CLI::Range(1e-3, 1e6))
         ->capture_default_str();
     cmd->add_option("--configs", o->configs,
-                    "Comma-separated estimator/rr/sampler: estimator bsdf|nee|mis, rr rr|norr, sampler ind|sobol, "
-                    "each may be *; or all")
+                    "Comma-separated estimator/rr/sampler[/light-sampler]: estimator bsdf|nee|mis, rr rr|norr, "
+                    "sampler ind|sobol, light sampler power|tree (default: --light-sampler's), each may be *; or all")
         ->capture_default_str();
     cmd->add_option("--seeds", o->seeds, "Seeds per configuration")->check(CLI::Range(1, 1000))->capture_default_str();
     cmd->add_option("--max-spp", o->max_spp, "Stop a series at this spp")
@@ -138,6 +182,8 @@ void add_bench_command(CLI::App& app) {
                   "Also measure Embree's raw ray rate on the same scene and ray mix, and the path "
                   "tracer's fraction of it (uses --light-sampling/--mis/--rr/--sampler)");
     cmd->add_flag("--rays-only", o->rays_only, "Only the ray-rate section");
+    cmd->add_flag("--light-tree", o->light_tree,
+                  "Only the light tree's build time and memory for 10^2..10^5 random emissive triangles");
     cmd->add_flag("--scaling", o->scaling, "Ray-rate section at 1 thread as well as --threads");
     cmd->add_option("--rays-seconds", o->rays_seconds, "Seconds of path tracing per round of the ray-rate section")
         ->check(CLI::Range(0.01, 1e6))

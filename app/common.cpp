@@ -157,6 +157,12 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
         ->transform(choices(
             {{"off", int(SkyGuideMode::Off)}, {"on", int(SkyGuideMode::On)}, {"auto", int(SkyGuideMode::Auto)}}))
         ->default_str("auto");
+    cmd.add_option("--light-sampler", o.settings.light_sampler,
+                   "How next-event estimation chooses an emissive triangle: power (in proportion to its power) or "
+                   "tree (a light tree: in proportion to a bound on its contribution at the shading point; for "
+                   "scenes of many lights)")
+        ->transform(choices({{"power", int(LightSamplerKind::Power)}, {"tree", int(LightSamplerKind::Tree)}}))
+        ->default_str(light_sampler_name(o.settings.light_sampler));
     cmd.add_option("--sampler", o.settings.sampler, "Sample generator: independent|sobol (Owen-scrambled, padded)")
         ->transform(choices({{"independent", int(SamplerKind::Independent)},
                              {"ind", int(SamplerKind::Independent)},

@@ -32,7 +32,8 @@ std::string RenderSettings::describe() const {
            " seed=" + std::to_string(seed) + " sampler=" + sampler_name(sampler) +
            (sky_guide == SkyGuideMode::On     ? " sky_guide=on"
             : sky_guide == SkyGuideMode::Auto ? " sky_guide=auto"
-                                              : "");
+                                              : "") +
+           (light_sampler == LightSamplerKind::Tree ? " light_sampler=tree" : "");
 }
 
 void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler) {
@@ -58,6 +59,7 @@ void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings,
     m_specular_bounce = true;  // the camera "bounce" counts like a delta one: emission is always added
     m_prev_pdf = 0.f;
     m_prev_p = vec3(0.f);
+    m_prev_n = vec3(0.f);
     m_eta_scale = 1.f;
     m_absorbing = false;
     m_depth = 0;
@@ -104,7 +106,8 @@ bool PathWalker::step_with() {
                 if (m_early) {
                     m_early_dim = sampler.reserve(kBounceDims);
                     m_early_u = sampler.get2d_at(m_early_dim + 1);
-                    m_early_found = ts.sample_light(vec3(0.f), 0.f, m_early_u, m_early_ls);  // the point is not used
+                    m_early_found =
+                        ts.sample_light(vec3(0.f), vec3(0.f), 0.f, m_early_u, m_early_ls);  // the point is not used
                 }
                 m_stage = Stage::Surface;
                 return true;  // the record is on its way
@@ -131,7 +134,8 @@ bool PathWalker::step_with() {
                         m_L += m_beta * mat.emission;
                     else
                         m_L += m_beta * mat.emission *
-                               bsdf_hit_weight(mis, m_prev_pdf, ts.light_pdf_hit(hit.prim, m_prev_p, m_sf.p, m_sf.ng));
+                               bsdf_hit_weight(mis, m_prev_pdf,
+                                               ts.light_pdf_hit(hit.prim, m_prev_p, m_prev_n, m_sf.p, m_sf.ng));
                 }
                 if (m_depth >= settings.max_depth) return finish();
                 // Only textured materials pay for the texture lookup and a local copy of the BSDF. The lookup waits
@@ -217,7 +221,7 @@ bool PathWalker::step_with() {
                 if (do_nee) {
                     // The environment or a triangle; the selection probability is in the pdf.
                     LightSample ls = m_early_ls;
-                    if ((early ? m_early_found : ts.sample_light(sf.p, u_light_select, u_light, ls)) &&
+                    if ((early ? m_early_found : ts.sample_light(sf.p, ns, u_light_select, u_light, ls)) &&
                         !is_black(ls.le)) {
                         const vec3 wi = frame.to_local(ls.wi);
                         const float cos_gl = glm::dot(ls.wi, ng);
@@ -298,6 +302,7 @@ bool PathWalker::step_with() {
                 m_specular_bounce = bs->is_delta;
                 m_prev_pdf = bs->pdf;
                 m_prev_p = sf.p;
+                m_prev_n = ns;                // the normal sample_light was given here
                 m_eta_scale *= sqr(bs->eta);  // 1 except across a refraction
 
                 // Russian roulette (issue 13, measured in docs/convergence.md): a path whose throughput m = max(beta) x

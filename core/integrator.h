@@ -31,15 +31,19 @@ struct RenderSettings {
     // predicts whether the guide pays for its cost (it halves the error of a room lit by the sky through a window,
     // and costs more than it gains on the sun-lit room, Sibenik and the conference room; docs/sky-guide.md).
     SkyGuideMode sky_guide = SkyGuideMode::Auto;
+    // How next-event estimation chooses an emissive triangle: by power, or by a light tree at the shading point
+    // (core/light_tree.h; docs/light-sampling.md has the measurements behind the default).
+    LightSamplerKind light_sampler = LightSamplerKind::Power;
 
     bool operator==(const RenderSettings& o) const {
         return light_sampling == o.light_sampling && mis == o.mis && russian_roulette == o.russian_roulette &&
-               max_depth == o.max_depth && seed == o.seed && sampler == o.sampler && sky_guide == o.sky_guide;
+               max_depth == o.max_depth && seed == o.seed && sampler == o.sampler && sky_guide == o.sky_guide &&
+               light_sampler == o.light_sampler;
     }
     bool operator!=(const RenderSettings& o) const { return !(*this == o); }
     // One line for logs and EXR metadata, e.g. "nee=on mis=on rr=on max_depth=1024 seed=0 sampler=independent",
-    // then " sky_guide=on" or " sky_guide=auto" (strings from before the guide existed mean it off; a render's
-    // settings_as_rendered() resolves auto to on or off).
+    // then " sky_guide=on" or " sky_guide=auto", then " light_sampler=tree" with the tree (strings from before the
+    // guide existed mean it off; a render's settings_as_rendered() resolves auto to on or off).
     std::string describe() const;
 };
 
@@ -114,6 +118,7 @@ private:
     bool m_specular_bounce = true;
     float m_prev_pdf = 0.f;  // solid-angle pdf of the BSDF sample that produced m_ray
     vec3 m_prev_p{0.f};
+    vec3 m_prev_n{0.f};  // the shading normal there (the light tree's pick depends on it)
     float m_eta_scale = 1.f;
     // Inside an absorbing solid (a metallic-roughness material with KHR_materials_volume attenuation): its
     // Beer-Lambert coefficient, applied to the segment to the next hit.

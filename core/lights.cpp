@@ -41,8 +41,8 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials, b
         const float r2 = std::max({glm::dot(p0 - centre, p0 - centre), glm::dot(p1 - centre, p1 - centre),
                                    glm::dot(p2 - centre, p2 - centre)});
         m_emitters.push_back({p0, p1, p2, safe_normalize(glm::cross(p1 - p0, p2 - p0)), m.emission, centre,
-                              kSphericalNearRadii * kSphericalNearRadii * r2, pmf, pmf / areas[k],
-                              m.two_sided_emission});
+                              kSphericalNearRadii * kSphericalNearRadii * r2, pmf, pmf / areas[k], 1.f / areas[k],
+                              float(power[k]), m.two_sided_emission});
         if (m.alpha_texture != kNoIndex && m.alpha_texture < scene.textures.size()) {
             // The alpha test's lookup (core/accel.cpp): the texture at the interpolated uv (0 without uvs).
             m_emitters.back().alpha = uint32_t(m_alpha.size());
@@ -52,13 +52,26 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials, b
     }
 }
 
-float LightSet::pdf(uint32_t tri, vec3 ref, vec3 p, vec3 n) const {
+void LightSet::set_sampler(LightSamplerKind kind) {
+    m_use_tree = kind == LightSamplerKind::Tree && !m_emitters.empty();
+    if (m_use_tree && m_tree.empty()) {
+        std::vector<LightBounds> bounds;
+        bounds.reserve(m_emitters.size());
+        for (const Emitter& e : m_emitters)
+            bounds.push_back(triangle_light_bounds(e.p0, e.p1, e.p2, e.power, e.two_sided));
+        m_tree = LightTree(bounds);
+    }
+}
+
+float LightSet::pdf(uint32_t tri, vec3 ref, vec3 ref_n, vec3 p, vec3 n) const {
     if (tri >= m_emitter_of.size() || m_emitter_of[tri] == kNoIndex) return 0.f;
-    const Emitter& e = m_emitters[m_emitter_of[tri]];
-    if (e.pmf == 0.f) return 0.f;
+    const uint32_t k = m_emitter_of[tri];
+    const Emitter& e = m_emitters[k];
+    const float pmf = m_use_tree ? m_tree.pmf(k, ref, ref_n) : e.pmf;
+    if (pmf == 0.f) return 0.f;
     float omega = 0.f;
-    if (spherical(e, ref, omega)) return e.pmf / omega;
-    const float pdf_area = e.pdf_area;
+    if (spherical(e, ref, omega)) return pmf / omega;
+    const float pdf_area = m_use_tree ? pmf * e.inv_area : e.pdf_area;
     const vec3 d = p - ref;
     const float d2 = glm::dot(d, d);
     const float cos_l = std::fabs(glm::dot(n, d)) / std::sqrt(d2);

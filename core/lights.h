@@ -15,6 +15,7 @@
 
 #include "core/camera.h"
 #include "core/distribution.h"
+#include "core/light_tree.h"
 #include "core/scene.h"
 #include "core/spherical_triangle.h"
 #include "core/warp.h"
@@ -64,6 +65,12 @@ constexpr float kSphericalNearRadii = 2.f;
 // when it sends nothing there.
 bool sample_punctual(const PunctualLight& light, vec3 ref, LightSample& out);
 
+// --light-sampler: how an emissive triangle is chosen. Power: in proportion to its power, wherever the shading point
+// (an alias table). Tree: by a light tree (core/light_tree.h) in proportion to a bound on its contribution at the
+// shading point and normal.
+enum class LightSamplerKind : uint8_t { Power, Tree };
+inline const char* light_sampler_name(LightSamplerKind k) { return k == LightSamplerKind::Tree ? "tree" : "power"; }
+
 class LightSet {
 public:
     LightSet() = default;
@@ -73,14 +80,24 @@ public:
 
     bool empty() const { return m_tris.empty(); }
     size_t size() const { return m_tris.size(); }
-    // Samples a light point as seen from `ref` into `out`; false (out unspecified) when the sample is useless
-    // (d = 0, cos = 0). Inline: this is the path tracer's per-vertex call.
-    bool sample(vec3 ref, float u_select, vec2 u, LightSample& out) const;
-    // Solid-angle pdf that sample() picks point p on triangle `tri` (normal n) from `ref`.
-    float pdf(uint32_t tri, vec3 ref, vec3 p, vec3 n) const;
-    // Probability of choosing triangle `tri` (0 for non-lights).
+    // Chooses how a triangle is picked (the tree is built on first use and kept). Not concurrent with queries.
+    void set_sampler(LightSamplerKind kind);
+    LightSamplerKind sampler() const { return m_use_tree ? LightSamplerKind::Tree : LightSamplerKind::Power; }
+    const LightTree& tree() const { return m_tree; }
+    // Samples a light point as seen from `ref` (shading normal ref_n, or 0: the tree's pick then ignores the
+    // receiver's cosine) into `out`; false (out unspecified) when the sample is useless (d = 0, cos = 0). Inline:
+    // this is the path tracer's per-vertex call.
+    bool sample(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& out) const;
+    // Solid-angle pdf that sample() picks point p on triangle `tri` (normal n) from `ref` (normal ref_n).
+    float pdf(uint32_t tri, vec3 ref, vec3 ref_n, vec3 p, vec3 n) const;
+    // Probability of choosing triangle `tri` (0 for non-lights) by power (the power sampler's, wherever the point).
     float pmf(uint32_t tri) const {
         return tri < m_emitter_of.size() && m_emitter_of[tri] != kNoIndex ? m_emitters[m_emitter_of[tri]].pmf : 0.f;
+    }
+    // Probability that sample() chooses triangle `tri` from `ref` (normal ref_n) under the sampler in force.
+    float pmf(uint32_t tri, vec3 ref, vec3 ref_n) const {
+        if (tri >= m_emitter_of.size() || m_emitter_of[tri] == kNoIndex) return 0.f;
+        return m_use_tree ? m_tree.pmf(m_emitter_of[tri], ref, ref_n) : m_emitters[m_emitter_of[tri]].pmf;
     }
     float total_power() const { return m_total_power; }
 
@@ -95,6 +112,8 @@ private:
         float near2;     // squared distance from centre within which the solid-angle rule may apply
         float pmf;       // selection probability
         float pdf_area;  // pmf / area
+        float inv_area;  // 1 / area (the tree's pdf_area is its pmf times this)
+        float power;     // luminance(Le) x area, doubled when two-sided
         bool two_sided;
         uint32_t alpha = kNoIndex;  // into m_alpha for an emitter with an alpha cut-out
     };
@@ -111,6 +130,8 @@ private:
     std::vector<uint32_t> m_emitter_of;  // per scene triangle: its index in m_emitters, kNoIndex for non-lights
     float m_total_power = 0.f;
     bool m_solid_angle = true;
+    bool m_use_tree = false;
+    LightTree m_tree;  // over m_emitters, built by set_sampler(Tree)
 };
 
 inline bool LightSet::spherical(const Emitter& e, vec3 ref, float& omega) const {
@@ -121,10 +142,19 @@ inline bool LightSet::spherical(const Emitter& e, vec3 ref, float& omega) const 
     return omega > kMinSphericalSolidAngle && omega < kMaxSphericalSolidAngle;
 }
 
-inline bool LightSet::sample(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
+inline bool LightSet::sample(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& ls) const {
     const size_t n = m_tris.size();
     if (n == 0) return false;
-    const size_t k = m_select.sample(u_select);
+    size_t k;
+    float pmf;
+    if (m_use_tree) [[unlikely]] {
+        uint32_t kt;
+        if (!m_tree.sample(ref, ref_n, u_select, &kt, &pmf)) return false;
+        k = kt;
+    } else {
+        k = m_select.sample(u_select);
+        pmf = m_emitters[k].pmf;
+    }
     const Emitter& e = m_emitters[k];
     float omega = 0.f;
     const bool by_solid_angle = spherical(e, ref, omega);
@@ -152,7 +182,8 @@ inline bool LightSet::sample(vec3 ref, float u_select, vec2 u, LightSample& ls) 
         const AlphaCut& a = m_alpha[e.alpha];
         ls.le *= glm::clamp(a.texture->lookup(b0 * a.uv0 + b.x * a.uv1 + b.y * a.uv2).w, 0.f, 1.f);
     }
-    ls.pdf = by_solid_angle ? e.pmf / omega : e.pdf_area * d2 / std::fabs(cos_l);
+    const float pdf_area = m_use_tree ? pmf * e.inv_area : e.pdf_area;
+    ls.pdf = by_solid_angle ? pmf / omega : pdf_area * d2 / std::fabs(cos_l);
     return ls.pdf > 0.f && std::isfinite(ls.pdf);
 }
 

@@ -356,6 +356,8 @@ RenderSettings parse_settings(const std::string& text, const std::string& what) 
             s.seed = uint32_t(parse_u64(value, num_ok)), ok = num_ok;
         else if (key == "sky_guide" && (value == "on" || value == "auto"))
             s.sky_guide = value == "on" ? SkyGuideMode::On : SkyGuideMode::Auto;
+        else if (key == "light_sampler" && value == "tree")
+            s.light_sampler = LightSamplerKind::Tree;
         else if (key == "sampler" && parse_sampler(value))
             s.sampler = *parse_sampler(value);
         else

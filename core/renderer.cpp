@@ -67,6 +67,7 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     m_region = region;
     m_camera = Camera(camera, width, height);
     m_settings = settings;
+    m_traceable->set_light_sampler(settings.light_sampler);  // the tree is built on first use (not timed)
     m_film.reset(width, height);
     m_adaptive = m_adaptive_next;
     m_mask.reset(width, height);

@@ -174,7 +174,7 @@ void train_path(const TraceableScene& ts, const SkyGuideGrid& grid, Ray ray, Pcg
             const float ux = nee ? nee->next_float() : 0.f;
             const vec2 u(ux, nee ? nee->next_float() : 0.f);
             LightSample ls;
-            if (nee && ts.sample_light(sf.p, u_select, u, ls) && !is_black(ls.le)) {
+            if (nee && ts.sample_light(sf.p, ns, u_select, u, ls) && !is_black(ls.le)) {
                 const vec3 wi = frame.to_local(ls.wi);
                 const float c = (glm::dot(ls.wi, ng) > 0.f) == (wi.z > 0.f)
                                     ? luminance(beta * eval(bsdf, wo, wi) * ls.le) * std::fabs(wi.z) / ls.pdf

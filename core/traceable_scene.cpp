@@ -40,6 +40,7 @@ void TraceableScene::set_materials(const std::vector<Material>& materials) {
     if (materials.size() != m_scene->materials.size()) return;
     m_materials = materials;
     m_lights = LightSet(*m_scene, m_materials);
+    m_lights.set_sampler(m_light_sampler);
     m_accel->set_materials(m_materials);  // alpha cut-outs as edited
     update_selection();
 }

@@ -89,11 +89,19 @@ public:
     bool light_selection_draw() const { return m_p_env != 1.f || m_p_mix > 0.f; }
     // Samples a light direction from `ref` into `ls` (pdf per solid angle, the selection probability included; an
     // environment sample has dist = infinity). False (ls unspecified) when the sample is useless.
-    bool sample_light(vec3 ref, float u_select, vec2 u, LightSample& ls) const;
-    // The pdf sample_light would give point p (normal n) on emissive triangle `tri` from `ref`.
-    float light_pdf_hit(uint32_t tri, vec3 ref, vec3 p, vec3 n) const {
-        return (1.f - m_p_env) * m_lights.pdf(tri, ref, p, n);
+    // ref_n: the shading normal at ref (or 0), which the light tree's pick weighs the receiver's cosine with.
+    bool sample_light(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& ls) const;
+    // The pdf sample_light would give point p (normal n) on emissive triangle `tri` from `ref` (normal ref_n).
+    float light_pdf_hit(uint32_t tri, vec3 ref, vec3 ref_n, vec3 p, vec3 n) const {
+        return (1.f - m_p_env) * m_lights.pdf(tri, ref, ref_n, p, n);
     }
+    // How an emissive triangle is chosen (RenderSettings::light_sampler); kept across set_materials. Not
+    // concurrent with queries.
+    void set_light_sampler(LightSamplerKind kind) {
+        m_light_sampler = kind;
+        m_lights.set_sampler(kind);
+    }
+    LightSamplerKind light_sampler() const { return m_light_sampler; }
     // The pdf sample_light would give the environment in direction dir from `ref` (the ray's origin: portals make
     // it depend on where the ray starts).
     float light_pdf_escape(vec3 ref, vec3 dir) const {
@@ -153,6 +161,7 @@ private:
     // record read rarely waits for a page walk); null above kMaxPackedTriangles.
     std::shared_ptr<const TriangleRecord> m_records;
     LightSet m_lights;
+    LightSamplerKind m_light_sampler = LightSamplerKind::Power;
     EnvironmentSettings m_environment_settings;
     Environment m_environment;
     float m_p_env = 0.f;
@@ -164,7 +173,7 @@ private:
 };
 
 // Inline: the path tracer's per-vertex call.
-inline bool TraceableScene::sample_light(vec3 ref, float u_select, vec2 u, LightSample& ls) const {
+inline bool TraceableScene::sample_light(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& ls) const {
     const float p_env = m_p_env;
     if (u_select < p_env) {
         if (m_p_mix > 0.f) return sample_environment_mixed(ref, u_select / p_env, u, ls);
@@ -176,7 +185,7 @@ inline bool TraceableScene::sample_light(vec3 ref, float u_select, vec2 u, Light
         ls.dist = std::numeric_limits<float>::infinity();
         return true;
     }
-    if (!m_lights.sample(ref, (u_select - p_env) / (1.f - p_env), u, ls)) return false;
+    if (!m_lights.sample(ref, ref_n, (u_select - p_env) / (1.f - p_env), u, ls)) return false;
     ls.pdf *= 1.f - p_env;
     return true;
 }

@@ -157,22 +157,27 @@ TEST(ExtremeInputs, LightSetAtDegenerateReferencePoints) {
     m.emission = vec3(3.f);
     scene.materials.push_back(m);
     test::add_quad(scene, vec3(0, 1, 0), vec3(1, 1, 0), vec3(1, 1, 1), vec3(0, 1, 1), 0);
-    const LightSet lights(scene, scene.materials);
+    LightSet lights(scene, scene.materials);
     const float us[] = {0.f, 0x1p-24f, 0.5f, kOneMinusEpsilon};
-    // On the light's plane (cos 0), on a vertex and on an edge (distance 0), far away, and a regular point.
+    // On the light's plane (cos 0), on a vertex and on an edge (distance 0), far away, and a regular point; with
+    // no receiver normal and with one (the light tree weighs it).
     const vec3 refs[] = {
         vec3(2, 1, 0.5f),        vec3(0, 1, 0), vec3(0.5f, 1, 0), vec3(0.5f, 0.f, 0.5f), vec3(0.5f, 1e-30f + 1.f, 0.5f),
         vec3(1e30f, -1e30f, 0.f)};
-    for (const vec3& ref : refs)
-        for (float a : us)
-            for (float b : us)
-                for (float c : us) {
-                    LightSample s;
-                    if (!lights.sample(ref, a, vec2(b, c), s)) continue;
-                    EXPECT_TRUE(std::isfinite(s.pdf) && s.pdf > 0.f);
-                    EXPECT_TRUE(is_finite(s.wi) && is_finite(s.le) && is_finite(s.p));
-                    EXPECT_TRUE(s.dist > 0.f && std::isfinite(s.dist));
-                }
+    for (const LightSamplerKind kind : {LightSamplerKind::Power, LightSamplerKind::Tree}) {
+        lights.set_sampler(kind);
+        for (const vec3& ref : refs)
+            for (const vec3& n : {vec3(0.f), vec3(0.f, 1.f, 0.f)})
+                for (float a : us)
+                    for (float b : us)
+                        for (float c : us) {
+                            LightSample s;
+                            if (!lights.sample(ref, n, a, vec2(b, c), s)) continue;
+                            EXPECT_TRUE(std::isfinite(s.pdf) && s.pdf > 0.f);
+                            EXPECT_TRUE(is_finite(s.wi) && is_finite(s.le) && is_finite(s.p));
+                            EXPECT_TRUE(s.dist > 0.f && std::isfinite(s.dist));
+                        }
+    }
 }
 
 // ---------------------------------------------------------------- shading normals
@@ -385,7 +390,8 @@ TEST(DegenerateGeometry, ZeroAreaEmitterIsNeverSampled) {
     Pcg32 g(1, 2);
     for (int i = 0; i < 100000; ++i) {
         LightSample s;
-        ASSERT_TRUE(lights.sample(vec3(0.2f, 0.f, 0.2f), g.next_float(), vec2(g.next_float(), g.next_float()), s));
+        ASSERT_TRUE(
+            lights.sample(vec3(0.2f, 0.f, 0.2f), vec3(0.f), g.next_float(), vec2(g.next_float(), g.next_float()), s));
         ASSERT_NEAR(s.p.y, 2.f, 1e-6f);
         ASSERT_TRUE(std::isfinite(s.pdf));
     }

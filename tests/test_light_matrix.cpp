@@ -197,8 +197,14 @@ std::vector<LightCase> light_cases() {
 struct Estimator {
     const char* name;
     bool nee, mis;
+    LightSamplerKind light_sampler = LightSamplerKind::Power;
 };
-constexpr Estimator kEstimators[] = {{"bsdf", false, false}, {"nee", true, false}, {"nee+mis", true, true}};
+// Light sampling with either way of choosing an emissive triangle (by power, by the light tree).
+constexpr Estimator kEstimators[] = {{"bsdf", false, false},
+                                     {"nee", true, false},
+                                     {"nee+mis", true, true},
+                                     {"nee/tree", true, false, LightSamplerKind::Tree},
+                                     {"nee+mis/tree", true, true, LightSamplerKind::Tree}};
 
 struct CellResult {
     double mean = 0, se = 0;
@@ -271,7 +277,7 @@ void run_matrix(const std::vector<LightCase>& cases, size_t index, Receiver rece
         cam.eye = vec3(0.1f, 0.2f, 0.f);
         cam.target = vec3(1.f, 0.3f, 0.2f);
     }
-    const test::Tracer tracer(scene);
+    test::Tracer tracer(scene);
     double expected_se = 0.0;
     if (receiver == Receiver::MrGlossy) {
         RenderSettings s;
@@ -299,6 +305,8 @@ void run_matrix(const std::vector<LightCase>& cases, size_t index, Receiver rece
             s.russian_roulette = rr;
             s.max_depth = c.max_depth;
             s.seed = seed++;
+            s.light_sampler = est.light_sampler;
+            tracer.set_light_sampler(est.light_sampler);  // as the Renderer applies it
             const CellResult r = render_cell(tracer, s, n, cam);
             // Cells whose every sample is the same number (BSDF sampling of a constant sky, a closed furnace) have
             // stderr 0; their float rounding, a few ulps per vertex (relative 1e-6), is added to the stderr.
@@ -370,6 +378,7 @@ TEST(SunDisk, IrradianceIsIndependentOfRadius) {
         const test::Tracer tracer(scene);
         for (const Estimator& est : kEstimators) {
             if (!est.nee && hit * n < 100.0) continue;
+            if (est.light_sampler != LightSamplerKind::Power) continue;  // no emissive triangle: the same estimator
             RenderSettings s;
             s.sampler = SamplerKind::Independent;
             s.light_sampling = est.nee;

@@ -105,7 +105,7 @@ TEST(SolidAngleSampling, PointsFollowTheRuleInForcePerTriangleShape) {
             LightSample ls;
             const float pick = g.next_float();
             const float u0 = g.next_float();
-            if (!lights.sample(t.ref, pick, vec2(u0, g.next_float()), ls)) continue;
+            if (!lights.sample(t.ref, vec3(0.f), pick, vec2(u0, g.next_float()), ls)) continue;
             ++taken;
             // The sample's barycentrics in double, then its cell.
             const dvec3 q = dvec3(ls.p) - p0;
@@ -116,7 +116,7 @@ TEST(SolidAngleSampling, PointsFollowTheRuleInForcePerTriangleShape) {
             const double s = std::min(b1 + b2, 1.0), u = s > 0.0 ? b2 / s : 0.0;
             observed[size_t(std::min(int(s * K), K - 1) * K + std::min(int(u * K), K - 1))] += 1.0;
             // The pdf MIS uses at this point equals the rule's density.
-            const float got = lights.pdf(0, t.ref, ls.p, ls.n);
+            const float got = lights.pdf(0, t.ref, vec3(0.f), ls.p, ls.n);
             const double d2 = glm::dot(dvec3(ls.p) - r, dvec3(ls.p) - r);
             const double cos_l = std::fabs(glm::dot(dvec3(ls.n), glm::normalize(dvec3(ls.p) - r)));
             const double want = t.spherical ? 1.0 / double(omega) : d2 / (tri_area * cos_l);
@@ -183,7 +183,7 @@ TEST(SolidAngleSampling, IrradianceMatchesLambertUnderBothRules) {
                 const float pick = g.next_float();
                 const float u0 = g.next_float();
                 double x = 0.0;
-                if (lights.sample(t.ref, pick, vec2(u0, g.next_float()), ls))
+                if (lights.sample(t.ref, vec3(0.f), pick, vec2(u0, g.next_float()), ls))
                     x = double(ls.le.x) * std::max(0.0, double(glm::dot(n, ls.wi))) / double(ls.pdf);
                 s.add(x);
             }

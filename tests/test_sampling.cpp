@@ -146,7 +146,7 @@ struct LightScene {
             if (u < 0 || v < 0 || u + v > 1 || tt <= 0) continue;
             const vec3 p = vec3(o + tt * d);
             const vec3 n = glm::normalize(glm::cross(vec3(e1), vec3(e2)));
-            total += lights->pdf(i, ref, p, n);
+            total += lights->pdf(i, ref, vec3(0.f), p, n);
         }
         return total;
     }
@@ -164,7 +164,7 @@ TEST(Chi2Light, TriangleLightsBySolidAngle) {
                 const float us = g.next_float();
                 const vec2 u(g.next_float(), g.next_float());
                 LightSample s;
-                if (!ls.lights->sample(ref, us, u, s)) return std::nullopt;
+                if (!ls.lights->sample(ref, vec3(0.f), us, u, s)) return std::nullopt;
                 return s.wi;
             },
             [&](vec3 w) { return ls.direction_pdf(ref, w); }, o);
@@ -180,7 +180,7 @@ TEST(LightSampling, SamplePdfMatchesPdfAndPowerIsProportional) {
     const vec3 ref(0.2f, 0.1f, -0.3f);
     for (int i = 0; i < 10000; ++i) {
         LightSample s;
-        ASSERT_TRUE(ls.lights->sample(ref, g.next_float(), vec2(g.next_float(), g.next_float()), s));
+        ASSERT_TRUE(ls.lights->sample(ref, vec3(0.f), g.next_float(), vec2(g.next_float(), g.next_float()), s));
         // Identify the triangle by the direction pdf (at most one triangle per direction here).
         const double p = ls.direction_pdf(ref, s.wi);
         EXPECT_NEAR(s.pdf, p, 1e-3 * p);

@@ -62,7 +62,7 @@ double light_direction_pdf(const TraceableScene& ts, vec3 ref, vec3 w) {
     Hit hit;
     if (ts.intersect(ray, hit)) {
         const SurfacePoint sf = surface_point(ts.scene(), hit);
-        pdf += ts.light_pdf_hit(hit.prim, ref, sf.p, sf.ng);
+        pdf += ts.light_pdf_hit(hit.prim, ref, vec3(0.f), sf.p, sf.ng);
     }
     return pdf;
 }
@@ -82,7 +82,7 @@ TEST(TraceableScene, LightSamplesFollowTheCombinedPdf) {
                 const float u0 = g.next_float();
                 const vec2 u(u0, g.next_float());
                 LightSample ls;
-                if (!ts.sample_light(ref, us, u, ls)) return std::nullopt;
+                if (!ts.sample_light(ref, vec3(0.f), us, u, ls)) return std::nullopt;
                 // The sample's own pdf is the interface's pdf of its direction.
                 const double p = light_direction_pdf(ts, ref, ls.wi);
                 if (std::isinf(ls.dist)) {
@@ -177,7 +177,7 @@ TEST(TraceableScene, EscapeRadianceAndPdfInOneSearchAreTheSeparateValues) {
             dirs.push_back(square_to_uniform_sphere(vec2(rng.next_float(), rng.next_float())));
         for (int i = 0; i < 5000; ++i) {  // the lights' own samples: in the sun, through the portal
             LightSample ls;
-            if (ts.sample_light(ref, rng.next_float(), vec2(rng.next_float(), rng.next_float()), ls))
+            if (ts.sample_light(ref, vec3(0.f), rng.next_float(), vec2(rng.next_float(), rng.next_float()), ls))
                 dirs.push_back(ls.wi);
         }
         for (int row = 0; row <= 12; ++row)  // texel corners of the 2D map (also rows of the others)

@@ -263,6 +263,16 @@ void Panel::estimator(ViewState& state, const PanelFacts& facts, PanelActions& a
     log_widget("light_sampling");
     ImGui::BeginDisabled(!s.light_sampling);
     act.settings_changed |= ImGui::Checkbox("MIS", &s.mis);
+    int light_sampler = static_cast<int>(s.light_sampler);
+    if (ImGui::Combo("light sampler", &light_sampler, "power\0tree\0")) {
+        s.light_sampler = static_cast<LightSamplerKind>(light_sampler);
+        act.settings_changed = true;
+    }
+    log_widget("light_sampler");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "How an emissive triangle is chosen for a light sample: in proportion to its power, or by a light tree "
+            "in proportion to a bound on what it sends to the shading point (scenes of many lights)");
     int guide = static_cast<int>(s.sky_guide);
     if (ImGui::Combo("sky guide", &guide, "off\0on\0auto\0")) {
         s.sky_guide = static_cast<SkyGuideMode>(guide);

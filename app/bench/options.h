@@ -23,6 +23,7 @@ struct BenchOptions {
     std::string csv = "pathview-bench.csv", svg = "pathview-bench.svg";
     std::string title;
     bool rays = false, rays_only = false, scaling = false;
+    bool light_tree = false;  // --light-tree: the light tree's build time and memory for 10^2..10^5 emitters, only
     double rays_seconds = 2.0;
     int rays_rounds = 3;
     std::string clock = "cpu";  // process CPU seconds / threads, or "wall"

@@ -61,7 +61,7 @@ inline void random_walk(const TraceableScene& ts, const Camera& camera, int x, i
         if (ts.has_lights()) {
             const float u_sel = ts.light_selection_draw() ? rng.next_float() : 0.f;
             LightSample ls;
-            if (ts.sample_light(p, u_sel, u2(), ls)) {
+            if (ts.sample_light(p, n, u_sel, u2(), ls)) {
                 const Ray s = pv::shadow_ray(offset_ray_origin(p, glm::dot(ls.wi, n) > 0.f ? n : -n, e), ls);
                 on_shadow(s, ls.le * (std::fabs(glm::dot(ls.wi, n)) / ls.pdf));
             }

@@ -1,6 +1,8 @@
 // app/bench/scene_gen.cpp: generated benchmark scenes (see scene_gen.h).
 #include "app/bench/scene_gen.h"
 
+#include <filesystem>
+
 #include "core/scene_file.h"
 
 namespace pv {
@@ -35,6 +37,13 @@ void add_displaced_sphere(Scene& s, vec3 c, float r, float amp, int n_theta, int
 }
 
 std::optional<Scene> generated_scene(const std::string& keyword) {
+    if (keyword == "many-lights") {
+        // Shipped, made by scripts/make_many_lights.py; beside the built-in Cornell box.
+        const std::filesystem::path box(builtin_scene_path());
+        Scene s = load_scene((box.parent_path().parent_path() / "many-lights" / "scene.json").string());
+        s.source = "many-lights (assets/many-lights: 320 lamps, 2560 emissive triangles)";
+        return s;
+    }
     if (keyword != "large-mesh") return std::nullopt;
     Scene s = load_scene(builtin_scene_path());
     Material white;

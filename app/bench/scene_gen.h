@@ -1,6 +1,8 @@
 // app/bench/scene_gen.h: scenes generated at run time, by keyword, for benchmarks (a large mesh is not shipped).
 //   "large-mesh": the built-in Cornell box with a displaced sphere of 1,046,528 triangles (1024 x 512 grid) on a
 //                 white diffuse material, standing in for the box's contents.
+//   "many-lights": assets/many-lights (scripts/make_many_lights.py): a room of 320 small lamps of radiances over
+//                 five decades, for the light tree (--light-sampler tree).
 #pragma once
 
 #include <optional>

@@ -156,7 +156,7 @@ void expect_environment_samples_follow_pdf(const TraceableScene& ts, vec3 ref) {
             const float us = g.next_float();
             const float u0 = g.next_float();
             LightSample ls;
-            if (!ts.sample_light(ref, us, vec2(u0, g.next_float()), ls)) return std::nullopt;
+            if (!ts.sample_light(ref, vec3(0.f), us, vec2(u0, g.next_float()), ls)) return std::nullopt;
             EXPECT_TRUE(std::isinf(ls.dist));
             EXPECT_NEAR(ls.pdf, ts.light_pdf_escape(ref, ls.wi), 1e-4 * ls.pdf);
             return ls.wi;
