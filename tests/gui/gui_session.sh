@@ -38,7 +38,7 @@ mean_of() { convert "$out/screen.png" -crop "$1" +repage -colorspace gray -forma
 stddev_of() { convert "$out/screen.png" -crop "$1" +repage -colorspace gray -format '%[fx:standard_deviation]' info:; }
 
 start=$SECONDS
-"$pathview" view --width 480 --height 560 --snapshot-dir "$out" --log-file "$log" > "$out/output.txt" 2>&1 &
+"$pathview" view --width 480 --height 640 --snapshot-dir "$out" --log-file "$log" > "$out/output.txt" 2>&1 &
 pid=$!
 wait_for "frame gen="
 wid=$(xdotool search --sync --onlyvisible --name '^pathview' | head -1)
@@ -78,7 +78,7 @@ wait_for "restart gen=[0-9]+ reason=settings .* rr=off"
 echo "panel click: restarted with rr=off"
 
 # 4. Ctrl+S writes a FLOAT EXR with metadata into --snapshot-dir.
-wait_for "frame gen=[0-9]+ shown_gen=[0-9]+ latency_ms=[0-9.]+ reason=refine size=480x560"
+wait_for "frame gen=[0-9]+ shown_gen=[0-9]+ latency_ms=[0-9.]+ reason=refine size=480x640"
 xdotool mousemove --sync $((X + 240)) $((Y + 280)) key ctrl+s
 wait_for "snapshot path="
 exr=$(grep -E "snapshot path=" "$log" | tail -1 | sed -E 's/.*snapshot path=([^ ]+).*/\1/')
