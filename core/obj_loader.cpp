@@ -15,6 +15,7 @@
 
 #include "core/error.h"
 #include "core/file_io.h"
+#include "core/material_params.h"
 
 namespace pv {
 namespace {
@@ -390,12 +391,15 @@ Material material_from_mtl(const std::string& name, vec3 kd, vec3 ks, vec3 ke, f
     const bool dissolved = d < 1.f && d >= 0.f;
     if (dissolved && !(ni > 1.f) && !(illum == 4 || illum == 6 || illum == 7))
         warnings.push_back("material '" + name + "': d < 1 without Ni > 1 is not glass; rendered opaque");
+    // The MTL model's choice of BSDF; the BSDF itself comes from make_bsdf, the one place that keeps its invariants.
+    BsdfParams p;
     if (illum == 4 || illum == 6 || illum == 7 || (dissolved && ni > 1.f)) {
-        const float eta = ni > 1.f ? ni : 1.5f;
         if (!(ni > 1.f)) warnings.push_back("material '" + name + "': glass without Ni > 1; IOR 1.5 used");
-        m.bsdf = Dielectric{eta};
+        p.type = BsdfType::Glass;
+        p.ior = ni > 1.f ? ni : 1.5f;
     } else if (illum == 3 || illum == 5) {
-        m.bsdf = Mirror{is_black(ks) ? vec3(1.f) : ks};
+        p.type = BsdfType::Mirror;
+        p.base = is_black(ks) ? vec3(1.f) : ks;
     } else if (!is_black(ks) && illum != 0 && illum != 1) {
         const float total = max_component(kd + ks);
         if (total > 1.f) {
@@ -404,10 +408,15 @@ Material material_from_mtl(const std::string& name, vec3 kd, vec3 ks, vec3 ke, f
             kd /= total;
             ks /= total;
         }
-        m.bsdf = Glossy{kd, ks, alpha_from_ns(ns)};
+        p.type = BsdfType::Glossy;
+        p.base = kd;
+        p.specular = ks;
+        p.roughness = alpha_from_ns(ns);
     } else {
-        m.bsdf = Lambertian{kd};
+        p.type = BsdfType::Diffuse;
+        p.base = kd;
     }
+    m.bsdf = make_bsdf(p);
     return m;
 }
 
