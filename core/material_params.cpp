@@ -75,6 +75,22 @@ Bsdf make_bsdf(const BsdfParams& p) {
     return Lambertian{unit(p.base)};
 }
 
+void fit_bsdf_to_textures(Material& m) {
+    auto* mr = std::get_if<MetallicRoughness>(&m.bsdf);
+    if (!mr || m.metallic_roughness_texture == kNoIndex || !(mr->metallic > 0.f)) return;
+    MetallicRoughness any = *mr;
+    any.metallic = 0.5f;
+    prepare_metallic_roughness(any);
+    mr->lobes = any.lobes;
+    mr->delta_only = any.delta_only;
+    mr->lambert_only = false;
+}
+
+void set_bsdf(Material& m, const BsdfParams& p) {
+    m.bsdf = make_bsdf(p);
+    fit_bsdf_to_textures(m);
+}
+
 bool parse_bsdf_type(const std::string& name, BsdfType& out) {
     static const char* const names[] = {"diffuse", "glossy", "mirror", "glass", "metallic-roughness"};
     for (int i = 0; i < 5; ++i)

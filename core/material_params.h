@@ -32,6 +32,13 @@ BsdfParams bsdf_params(const Bsdf& bsdf);
 // The BSDF of `p`, clamped to the invariants above (a non-finite or non-positive IOR becomes 1.5; callers that
 // read user input reject those first with a message).
 Bsdf make_bsdf(const BsdfParams& p);
+// Fits m.bsdf to m's per-hit inputs: a metallicRoughnessTexture may lower metallic anywhere in [0, factor] at a hit
+// (apply_metallic_roughness_texel keeps the material's lobes), so a metallic-roughness BSDF with one carries every lobe
+// of that range (a metallic factor of 1 alone has no diffuse or specular lobe). No effect otherwise.
+void fit_bsdf_to_textures(Material& m);
+// m.bsdf = make_bsdf(p), fitted to m's textures: what every editor of a loaded material calls (the viewer's panel,
+// scene.json's material overrides), so that an edited glTF material shades as one loaded with those parameters.
+void set_bsdf(Material& m, const BsdfParams& p);
 // "diffuse", "glossy", "mirror", "glass", "metallic-roughness" (bsdf_type_name's words) <-> BsdfType; false for
 // anything else.
 bool parse_bsdf_type(const std::string& name, BsdfType& out);

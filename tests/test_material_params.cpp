@@ -7,6 +7,7 @@
 
 #include "core/material_params.h"
 #include "core/scene_file.h"
+#include "core/shading.h"
 
 namespace pv {
 namespace {
@@ -177,4 +178,53 @@ TEST(MaterialParams, SceneFileMetallicRoughnessOverride) {
         EXPECT_EQ(what.find('\n'), std::string::npos) << what;
     }
 }
+
+// The viewer's material editor (ui/panel.cpp) and scene.json overrides on a glTF material with a
+// metallicRoughnessTexture: its texel scales the metallic factor at each hit, so a texel of metallic 0 under a factor
+// of 1 is the dielectric of factor 0 there. After an edit (roughness 0.5 -> 0.6, base colour changed), the hit's BSDF
+// must still be that dielectric: eval equal to the same material built with metallic 0, for directions over the
+// hemisphere (before set_bsdf, the edit rebuilt the BSDF with the metal lobe alone and it evaluated to 0).
+TEST(MaterialParams, EditingAMetallicRoughnessTexturedMaterialKeepsTheLobesItsTexelNeeds) {
+    const Texture texel(1, 1, std::vector<vec4>{vec4(0.f, 1.f, 0.f, 1.f)});  // G: roughness x 1, B: metallic x 0
+    HitTextures t;
+    t.metal_rough = &texel;
+    t.uv = vec2(0.5f);
+    Material m;
+    MetallicRoughness mr;
+    mr.base_color = vec3(0.8f, 0.5f, 0.3f);
+    mr.metallic = 1.f;
+    mr.roughness = 0.5f;
+    m.bsdf = make_metallic_roughness(mr);
+    m.metallic_roughness_texture = 0;
+    fit_bsdf_to_textures(m);  // as the glTF loader leaves it
+    BsdfParams p = bsdf_params(m.bsdf);
+    p.roughness = 0.6f;
+    p.base = vec3(0.2f, 0.7f, 0.4f);
+    set_bsdf(m, p);  // the panel's edit
+    BsdfParams q = p;
+    q.metallic = 0.f;
+    Material dielectric;
+    dielectric.bsdf = make_bsdf(q);
+    const Bsdf a = hit_bsdf(m, t), b = hit_bsdf(dielectric, t);
+    int compared = 0;
+    for (float ct_o : {0.2f, 0.6f, 0.95f})
+        for (float ct_i : {0.1f, 0.5f, 0.9f})
+            for (float phi : {0.f, 1.f, 2.5f}) {
+                const vec3 wo(std::sqrt(1.f - ct_o * ct_o), 0.f, ct_o);
+                const float st = std::sqrt(1.f - ct_i * ct_i);
+                const vec3 wi(st * std::cos(phi), st * std::sin(phi), ct_i);
+                const vec3 fa = eval(a, wo, wi), fb = eval(b, wo, wi);
+                ASSERT_GT(max_component(fb), 0.f);
+                for (int k = 0; k < 3; ++k)
+                    EXPECT_NEAR(fa[k], fb[k], 1e-5f * fb[k]) << ct_o << " " << ct_i << " " << phi;
+                ++compared;
+            }
+    EXPECT_EQ(compared, 27);
+    // Without the texture the edit is make_bsdf's alone.
+    Material plain;
+    plain.bsdf = make_metallic_roughness(mr);
+    set_bsdf(plain, p);
+    EXPECT_EQ(std::get<MetallicRoughness>(plain.bsdf).lobes, std::get<MetallicRoughness>(make_bsdf(p)).lobes);
+}
+
 }  // namespace pv

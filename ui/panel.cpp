@@ -44,7 +44,7 @@ bool edit_material(Material& m) {
         changed |= ImGui::SliderFloat("transmission", &f.transmission, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
         changed |= ImGui::SliderFloat("specular", &f.specular_weight, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
     }
-    if (changed) m.bsdf = make_bsdf(f);
+    if (changed) set_bsdf(m, f);  // fitted to the material's textures, as the loader fits it
 
     // Emission as a colour (largest channel 1) times a strength.
     float strength = max_component(m.emission);
