@@ -227,4 +227,30 @@ TEST(MaterialParams, EditingAMetallicRoughnessTexturedMaterialKeepsTheLobesItsTe
     EXPECT_EQ(std::get<MetallicRoughness>(plain.bsdf).lobes, std::get<MetallicRoughness>(make_bsdf(p)).lobes);
 }
 
+// The panel's type combo carries parameters over by meaning: a diffuse material made metallic-roughness keeps its
+// colour as a dielectric with glTF's specular colour 1 (F0 0.04, not the glossy default 0.04 squared), and a glTF
+// dielectric made glossy keeps its diffuse colour under a 0.04 specular (its specular colour 1 as Fresnel reflectance
+// left no diffuse at all), alpha = roughness^2; the same type changes nothing.
+TEST(MaterialParams, ChangingTheTypeCarriesParametersOverByMeaning) {
+    BsdfParams diffuse;
+    diffuse.base = vec3(0.6f, 0.4f, 0.2f);
+    const auto mr = std::get<MetallicRoughness>(make_bsdf(with_type(diffuse, BsdfType::MetallicRoughness)));
+    EXPECT_EQ(mr.base_color, diffuse.base);
+    EXPECT_EQ(mr.metallic, 0.f);
+    EXPECT_NEAR(mr.spec_f0.x, 0.04f, 1e-6f);
+    EXPECT_TRUE(mr.has(MetallicRoughness::kDiffuse));
+    MetallicRoughness loaded;  // as the glTF loader gives a dielectric: specular colour 1
+    loaded.base_color = diffuse.base;
+    loaded.metallic = 0.f;
+    loaded.roughness = 0.5f;
+    const BsdfParams gltf = bsdf_params(make_metallic_roughness(loaded));
+    const auto g = std::get<Glossy>(make_bsdf(with_type(gltf, BsdfType::Glossy)));
+    EXPECT_EQ(g.diffuse, diffuse.base);
+    EXPECT_NEAR(g.specular.x, 0.04f, 1e-6f);
+    EXPECT_NEAR(g.alpha, 0.25f, 1e-6f);
+    const BsdfParams same = with_type(gltf, BsdfType::MetallicRoughness);
+    EXPECT_EQ(same.specular, gltf.specular);
+    EXPECT_EQ(same.roughness, gltf.roughness);
+}
+
 }  // namespace pv

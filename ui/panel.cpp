@@ -27,7 +27,7 @@ bool edit_material(Material& m) {
     BsdfParams f = bsdf_params(m.bsdf);
     int type = int(f.type);
     bool changed = ImGui::Combo("type", &type, "diffuse\0glossy\0mirror\0glass\0metallic-roughness\0");
-    f.type = BsdfType(type);
+    f = with_type(f, BsdfType(type));  // a new type's fields by meaning (core/material_params.h)
     if (f.type != BsdfType::Glass)
         changed |= ImGui::ColorEdit3(f.type == BsdfType::Mirror ? "reflectance" : "base colour", &f.base.x,
                                      ImGuiColorEditFlags_Float);
