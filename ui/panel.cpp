@@ -31,6 +31,8 @@ bool edit_material(Material& m) {
     if (f.type != BsdfType::Glass)
         changed |= ImGui::ColorEdit3(f.type == BsdfType::Mirror ? "reflectance" : "base colour", &f.base.x,
                                      ImGuiColorEditFlags_Float);
+    if (m.base_color_texture != kNoIndex && f.type != BsdfType::Glass && f.type != BsdfType::Mirror)
+        ImGui::TextDisabled("a base colour texture replaces this colour");
     if (f.type == BsdfType::Glossy) {
         changed |= ImGui::ColorEdit3("specular", &f.specular.x, ImGuiColorEditFlags_Float);
         changed |= ImGui::SliderFloat("roughness", &f.roughness, kMinAlpha, 1.f, "%.3f", ImGuiSliderFlags_Logarithmic);
