@@ -14,7 +14,7 @@
 #include "core/error.h"
 #include "core/exr_io.h"
 #include "core/parallel.h"
-#include "core/surface.h"
+#include "core/shading.h"
 
 namespace pv {
 namespace {
@@ -40,33 +40,34 @@ FeatureSample trace_features(const TraceableScene& ts, Ray ray, Sampler& sampler
     for (int bounce = 0; bounce < kMaxSpecularChain; ++bounce) {
         Hit hit;
         if (!ts.intersect(ray, hit)) return FeatureSample{};
-        const SurfacePoint sf = surface_point(scene, hit);
+        // The surface as the integrator shades it (core/shading.h): the normal map's normal, the BSDF with its
+        // base-colour texture, vertex colours and metallic-roughness texture.
+        SurfacePoint sf = surface_point(scene, hit);
         travelled += glm::length(sf.p - ray.o);
         const Material& mat = ts.material(hit.prim);
+        apply_normal_map(scene, mat, hit, scene.uv_at(hit.prim, hit.u, hit.v), -ray.d, sf);
+        const Bsdf bsdf = hit_bsdf(mat, hit_textures(scene, mat, hit));
         const bool front = glm::dot(ray.d, sf.ng) < 0.f;
         vec3 ns = sf.ns;
         if (glm::dot(ray.d, ns) > 0.f) ns = -ns;  // facing the arriving ray
-        if (!is_delta(mat.bsdf) || mat.has_emission()) {
-            vec3 albedo = base_color(mat.bsdf);
-            if (mat.base_color_texture != kNoIndex)
-                albedo = vec3(scene.textures[mat.base_color_texture].lookup(scene.uv_at(hit.prim, hit.u, hit.v)));
+        if (!is_delta(bsdf) || mat.has_emission()) {
             // An emitter's albedo is its emission clamped to 1: a lamp's diffuser is often the colour of the ceiling
             // around it, and a denoiser must not blend the two.
-            if (mat.has_emission()) albedo = glm::min(mat.emission, vec3(1.f));
+            const vec3 albedo = mat.has_emission() ? glm::min(mat.emission, vec3(1.f)) : base_color(bsdf);
             out.albedo = tint * albedo;
             out.normal = ns;
             out.depth = travelled;
             return out;
         }
         // A delta surface: continue along its (chosen) specular direction, in the integrator's frame convention.
-        const bool is_glass = oriented_eta(mat.bsdf) != 0.f;
+        const bool is_glass = oriented_eta(bsdf) != 0.f;
         const vec3 ng = (is_glass || front) ? sf.ng : -sf.ng;
         const vec3 frame_n = (is_glass || front) ? sf.ns : -sf.ns;
         const Frame frame((glm::dot(-ray.d, frame_n) > 0.f) == (glm::dot(-ray.d, ng) > 0.f) ? frame_n : ng);
-        const auto bs = sample(mat.bsdf, frame.to_local(-ray.d), sampler.get1d(), vec2(0.5f));
+        const auto bs = sample(bsdf, frame.to_local(-ray.d), sampler.get1d(), vec2(0.5f));
         if (!bs) return FeatureSample{};
-        if (const auto* m = std::get_if<Mirror>(&mat.bsdf)) tint *= m->reflectance;  // glass: untinted
-        if (std::holds_alternative<MetallicRoughness>(mat.bsdf))  // its lobe's weight (base colour, Fresnel)
+        if (const auto* m = std::get_if<Mirror>(&bsdf)) tint *= m->reflectance;  // glass: untinted
+        if (std::holds_alternative<MetallicRoughness>(bsdf))  // its lobe's weight (base colour, Fresnel)
             tint *= glm::min(bs->f * (std::fabs(bs->wi.z) / bs->pdf), vec3(1.f));
         const vec3 wi = frame.to_world(bs->wi);
         ray.o = offset_ray_origin(sf.p, glm::dot(wi, sf.ng) > 0.f ? sf.ng : -sf.ng, sf.p_error);

@@ -213,17 +213,7 @@ void Loader::convert_materials() {
                 s.textures.emplace_back(src.width(), src.height(), std::move(texels));
                 s.textures.back().set_wrap(ws, wt);
                 m.metallic_roughness_texture = uint32_t(s.textures.size() - 1);
-                // The texel may lower metallic anywhere in [0, factor]: the material carries every lobe of that
-                // range (a metallic factor of 1 alone would have no diffuse or specular lobe).
-                auto& mr = std::get<MetallicRoughness>(m.bsdf);
-                if (mr.metallic > 0.f) {
-                    MetallicRoughness any = mr;
-                    any.metallic = 0.5f;
-                    prepare_metallic_roughness(any);
-                    mr.lobes = any.lobes;
-                    mr.delta_only = any.delta_only;
-                    mr.lambert_only = false;
-                }
+                fit_bsdf_to_textures(m);  // the texel may lower metallic: every lobe of [0, factor]
             }
         }
         // normalTexture (linear data, like the metallicRoughnessTexture), read at the base colour's uvs: used where

@@ -1,8 +1,7 @@
 // core/integrator.cpp: the path tracer (see integrator.h). Structure after pbrt-v4's PathIntegrator::Li.
 #include "core/integrator.h"
 
-#include "core/normal_map.h"
-#include "core/surface.h"
+#include "core/shading.h"
 
 namespace pv {
 
@@ -120,13 +119,10 @@ bool PathWalker::step_with() {
                 m_mat = kPacked ? &ts.materials()[m_record->material()] : &ts.material(hit.prim);
                 const Material& mat = *m_mat;
                 // A normal map tilts the shading normal (materials without one skip this).
-                if (mat.normal_texture != kNoIndex) [[unlikely]] {
-                    const vec2 uv = kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
-                    const vec3 n = normal_mapped(scene, hit.prim, hit.u, hit.v, m_sf,
-                                                 vec3(scene.textures[mat.normal_texture].lookup(uv)), mat.normal_scale);
-                    // Bent where a grazing view would reflect below the surface (a flat texel leaves ns as it is).
-                    if (n != m_sf.ns) m_sf.ns = valid_reflection_normal(m_sf.ng, -m_ray.d, n);
-                }
+                if (mat.normal_texture != kNoIndex) [[unlikely]]
+                    apply_normal_map(scene, mat, hit,
+                                     kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v),
+                                     -m_ray.d, m_sf);
                 m_front = glm::dot(-m_ray.d, m_sf.ng) > 0.f;
                 // Emission found by the BSDF-sampled ray; with NEE it is weighted so it is never counted twice.
                 if (TraceableScene::emits(mat, m_front)) {
@@ -142,21 +138,13 @@ bool PathWalker::step_with() {
                 // until the BSDF's value is needed (after the shadow ray is traced), its texels prefetched now: on
                 // large scenes their load is a cache miss, which then overlaps other paths' work and Embree's
                 // traversal.
-                m_base_color = mat.base_color_texture != kNoIndex ? &scene.textures[mat.base_color_texture] : nullptr;
-                m_metal_rough = mat.metallic_roughness_texture != kNoIndex
-                                    ? &scene.textures[mat.metallic_roughness_texture]
-                                    : nullptr;
-                // Vertex colours: only scenes that have them test for them, only triangles that have them pay.
-                m_has_color = !scene.color_indices.empty() && scene.color_indices[hit.prim].x != kNoIndex;
-                if (m_has_color) [[unlikely]]
-                    m_color = scene.color_at(hit.prim, hit.u, hit.v);
+                m_tex = hit_textures(scene, mat, hit, [&] {
+                    return kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
+                });
                 m_stage = Stage::Scatter;
-                if (m_base_color || m_metal_rough) {
-                    m_uv = kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
-                    if (m_base_color) {
-                        m_texels = m_base_color->prefetch(m_uv);
-                        return true;  // the texels are on their way
-                    }
+                if (m_tex.base_color) {
+                    m_texels = m_tex.base_color->prefetch(m_tex.uv);
+                    return true;  // the texels are on their way
                 }
                 [[fallthrough]];
             }
@@ -164,21 +152,16 @@ bool PathWalker::step_with() {
                 const Material& mat = *m_mat;
                 const SurfacePoint& sf = m_sf;
                 const vec3 wo_world = -m_ray.d;
-                const Texture* base_color = m_base_color;
-                // The BSDF changes per hit (a texture or vertex colours): it is built by shade() when first needed.
-                const bool per_hit = base_color || m_metal_rough || m_has_color;
+                // The BSDF changes per hit (a texture or vertex colours): it is built by shade() when first needed,
+                // as core/shading.h's hit_bsdf builds it for the AOV pass and the sky guide's training.
+                const bool per_hit = m_tex.per_hit();
                 const Bsdf* bsdf = &mat.bsdf;
                 std::optional<Bsdf> textured;
                 auto shade = [&]() -> const Bsdf& {
                     if (per_hit && !textured) {
                         textured.emplace(mat.bsdf);
-                        if (base_color) set_base_color(*textured, vec3(base_color->lookup(m_texels)));
-                        if (m_has_color) multiply_base_color(*textured, m_color);
-                        if (m_metal_rough)
-                            if (auto* mr = std::get_if<MetallicRoughness>(&*textured)) {
-                                const vec4 t = m_metal_rough->lookup(m_uv);
-                                apply_metallic_roughness_texel(*mr, t.z, t.y);
-                            }
+                        apply_hit_textures(*textured, m_tex,
+                                           m_tex.base_color ? m_tex.base_color->lookup(m_texels) : vec4(0.f));
                         bsdf = &*textured;
                     }
                     return *bsdf;

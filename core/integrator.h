@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/sampler.h"
+#include "core/shading.h"
 #include "core/surface.h"
 #include "core/traceable_scene.h"
 
@@ -136,12 +137,8 @@ private:
     SurfacePoint m_sf;
     const Material* m_mat = nullptr;
     bool m_front = false;
-    const Texture* m_base_color = nullptr;
-    const Texture* m_metal_rough = nullptr;  // a glTF metallicRoughnessTexture, read at m_uv
-    vec2 m_uv{0.f};
-    TexelFootprint m_texels;
-    bool m_has_color = false;  // the hit triangle has vertex colours (glTF COLOR_0): m_color multiplies the base colour
-    vec3 m_color{1.f};
+    HitTextures m_tex;        // the hit's per-hit BSDF inputs (core/shading.h)
+    TexelFootprint m_texels;  // m_tex.base_color's prefetched texels
 };
 
 // Radiance arriving along `ray` in `scene` (shared read-only by all threads). Uses kBounceDims sampler dimensions

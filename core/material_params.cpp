@@ -75,6 +75,52 @@ Bsdf make_bsdf(const BsdfParams& p) {
     return Lambertian{unit(p.base)};
 }
 
+BsdfParams with_type(BsdfParams p, BsdfType t) {
+    if (t == p.type) return p;
+    const BsdfParams d;  // the defaults
+    if (t == BsdfType::MetallicRoughness) {
+        BsdfParams q;
+        q.type = t;
+        q.base = p.type == BsdfType::Glass ? vec3(1.f) : p.base;
+        q.specular = vec3(1.f);
+        q.specular_weight = 1.f;
+        q.ior = p.type == BsdfType::Glass ? p.ior : d.ior;
+        q.metallic = p.type == BsdfType::Mirror ? 1.f : 0.f;
+        q.transmission = p.type == BsdfType::Glass ? 1.f : 0.f;
+        q.roughness = p.type == BsdfType::Glossy    ? std::sqrt(std::max(p.roughness, 0.f))
+                      : p.type == BsdfType::Diffuse ? 1.f
+                                                    : 0.f;
+        return q;
+    }
+    if (p.type == BsdfType::MetallicRoughness && t == BsdfType::Glossy) {
+        const float m = glm::clamp(p.metallic, 0.f, 1.f);
+        BsdfParams q;
+        q.type = t;
+        q.specular = glm::mix(d.specular, p.base, m);
+        q.base = p.base * (1.f - m);
+        q.roughness = std::max(p.roughness * p.roughness, kMinAlpha);
+        return q;
+    }
+    p.type = t;
+    return p;
+}
+
+void fit_bsdf_to_textures(Material& m) {
+    auto* mr = std::get_if<MetallicRoughness>(&m.bsdf);
+    if (!mr || m.metallic_roughness_texture == kNoIndex || !(mr->metallic > 0.f)) return;
+    MetallicRoughness any = *mr;
+    any.metallic = 0.5f;
+    prepare_metallic_roughness(any);
+    mr->lobes = any.lobes;
+    mr->delta_only = any.delta_only;
+    mr->lambert_only = false;
+}
+
+void set_bsdf(Material& m, const BsdfParams& p) {
+    m.bsdf = make_bsdf(p);
+    fit_bsdf_to_textures(m);
+}
+
 bool parse_bsdf_type(const std::string& name, BsdfType& out) {
     static const char* const names[] = {"diffuse", "glossy", "mirror", "glass", "metallic-roughness"};
     for (int i = 0; i < 5; ++i)

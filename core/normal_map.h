@@ -1,5 +1,6 @@
-// core/normal_map.h: a glTF normalTexture applied to a surface point's shading normal (the integrator's only caller;
-// materials without a normal map never reach it).
+// core/normal_map.h: a glTF normalTexture applied to a surface point's shading normal (called through core/shading.h's
+// apply_normal_map by the integrator, the AOV pass and the sky guide's training; materials without a normal map never
+// reach it).
 #pragma once
 
 #include <algorithm>

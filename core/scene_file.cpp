@@ -139,7 +139,7 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
     if (o.contains("emission")) m.emission = r.vec(o["emission"], at / "emission", 0.f, kBig);
     // A mirror's reflectance is its "specular" colour when given (the MTL's Ks), else its base colour.
     if (p.type == BsdfType::Mirror && o.contains("specular")) p.base = p.specular;
-    m.bsdf = make_bsdf(p);  // the one conversion: keeps a glossy material's diffuse + specular <= 1
+    set_bsdf(m, p);  // the one conversion (keeps a glossy material's diffuse + specular <= 1), fitted to m's textures
 }
 
 // "portals": an array of parallelograms {corner, edge1, edge2}, finite and of non-zero area.

@@ -9,6 +9,7 @@
 #include "core/integrator.h"
 #include "core/parallel.h"
 #include "core/rng.h"
+#include "core/shading.h"
 #include "core/surface.h"
 #include "core/traceable_scene.h"
 #include "core/warp.h"
@@ -131,13 +132,12 @@ void train_path(const TraceableScene& ts, const SkyGuideGrid& grid, Ray ray, Pcg
             if (emission_counts) tally.y += double(luminance(beta * ts.emitted_escape(ray.d)));
             return;
         }
-        const SurfacePoint sf = surface_point(scene, hit);
+        // The surface as the integrator shades it (core/shading.h): the normal map, textures and vertex colours.
+        SurfacePoint sf = surface_point(scene, hit);
         const Material& mat = ts.material(hit.prim);
-        Bsdf bsdf = mat.bsdf;
-        if (mat.base_color_texture != kNoIndex)
-            set_base_color(bsdf,
-                           vec3(scene.textures[mat.base_color_texture].lookup(scene.uv_at(hit.prim, hit.u, hit.v))));
         const vec3 wo_world = -ray.d;
+        apply_normal_map(scene, mat, hit, scene.uv_at(hit.prim, hit.u, hit.v), wo_world, sf);
+        const Bsdf bsdf = hit_bsdf(mat, hit_textures(scene, mat, hit));
         const bool front = glm::dot(wo_world, sf.ng) > 0.f;
         if (emission_counts && TraceableScene::emits(mat, front)) tally.y += double(luminance(beta * mat.emission));
         const auto [ng, ns] = shading_normals(sf, wo_world, front, mat.bsdf);

@@ -7,6 +7,7 @@
 
 #include "core/material_params.h"
 #include "core/scene_file.h"
+#include "core/shading.h"
 
 namespace pv {
 namespace {
@@ -177,4 +178,79 @@ TEST(MaterialParams, SceneFileMetallicRoughnessOverride) {
         EXPECT_EQ(what.find('\n'), std::string::npos) << what;
     }
 }
+
+// The viewer's material editor (ui/panel.cpp) and scene.json overrides on a glTF material with a
+// metallicRoughnessTexture: its texel scales the metallic factor at each hit, so a texel of metallic 0 under a factor
+// of 1 is the dielectric of factor 0 there. After an edit (roughness 0.5 -> 0.6, base colour changed), the hit's BSDF
+// must still be that dielectric: eval equal to the same material built with metallic 0, for directions over the
+// hemisphere (before set_bsdf, the edit rebuilt the BSDF with the metal lobe alone and it evaluated to 0).
+TEST(MaterialParams, EditingAMetallicRoughnessTexturedMaterialKeepsTheLobesItsTexelNeeds) {
+    const Texture texel(1, 1, std::vector<vec4>{vec4(0.f, 1.f, 0.f, 1.f)});  // G: roughness x 1, B: metallic x 0
+    HitTextures t;
+    t.metal_rough = &texel;
+    t.uv = vec2(0.5f);
+    Material m;
+    MetallicRoughness mr;
+    mr.base_color = vec3(0.8f, 0.5f, 0.3f);
+    mr.metallic = 1.f;
+    mr.roughness = 0.5f;
+    m.bsdf = make_metallic_roughness(mr);
+    m.metallic_roughness_texture = 0;
+    fit_bsdf_to_textures(m);  // as the glTF loader leaves it
+    BsdfParams p = bsdf_params(m.bsdf);
+    p.roughness = 0.6f;
+    p.base = vec3(0.2f, 0.7f, 0.4f);
+    set_bsdf(m, p);  // the panel's edit
+    BsdfParams q = p;
+    q.metallic = 0.f;
+    Material dielectric;
+    dielectric.bsdf = make_bsdf(q);
+    const Bsdf a = hit_bsdf(m, t), b = hit_bsdf(dielectric, t);
+    int compared = 0;
+    for (float ct_o : {0.2f, 0.6f, 0.95f})
+        for (float ct_i : {0.1f, 0.5f, 0.9f})
+            for (float phi : {0.f, 1.f, 2.5f}) {
+                const vec3 wo(std::sqrt(1.f - ct_o * ct_o), 0.f, ct_o);
+                const float st = std::sqrt(1.f - ct_i * ct_i);
+                const vec3 wi(st * std::cos(phi), st * std::sin(phi), ct_i);
+                const vec3 fa = eval(a, wo, wi), fb = eval(b, wo, wi);
+                ASSERT_GT(max_component(fb), 0.f);
+                for (int k = 0; k < 3; ++k)
+                    EXPECT_NEAR(fa[k], fb[k], 1e-5f * fb[k]) << ct_o << " " << ct_i << " " << phi;
+                ++compared;
+            }
+    EXPECT_EQ(compared, 27);
+    // Without the texture the edit is make_bsdf's alone.
+    Material plain;
+    plain.bsdf = make_metallic_roughness(mr);
+    set_bsdf(plain, p);
+    EXPECT_EQ(std::get<MetallicRoughness>(plain.bsdf).lobes, std::get<MetallicRoughness>(make_bsdf(p)).lobes);
+}
+
+// The panel's type combo carries parameters over by meaning: a diffuse material made metallic-roughness keeps its
+// colour as a dielectric with glTF's specular colour 1 (F0 0.04, not the glossy default 0.04 squared), and a glTF
+// dielectric made glossy keeps its diffuse colour under a 0.04 specular (its specular colour 1 as Fresnel reflectance
+// left no diffuse at all), alpha = roughness^2; the same type changes nothing.
+TEST(MaterialParams, ChangingTheTypeCarriesParametersOverByMeaning) {
+    BsdfParams diffuse;
+    diffuse.base = vec3(0.6f, 0.4f, 0.2f);
+    const auto mr = std::get<MetallicRoughness>(make_bsdf(with_type(diffuse, BsdfType::MetallicRoughness)));
+    EXPECT_EQ(mr.base_color, diffuse.base);
+    EXPECT_EQ(mr.metallic, 0.f);
+    EXPECT_NEAR(mr.spec_f0.x, 0.04f, 1e-6f);
+    EXPECT_TRUE(mr.has(MetallicRoughness::kDiffuse));
+    MetallicRoughness loaded;  // as the glTF loader gives a dielectric: specular colour 1
+    loaded.base_color = diffuse.base;
+    loaded.metallic = 0.f;
+    loaded.roughness = 0.5f;
+    const BsdfParams gltf = bsdf_params(make_metallic_roughness(loaded));
+    const auto g = std::get<Glossy>(make_bsdf(with_type(gltf, BsdfType::Glossy)));
+    EXPECT_EQ(g.diffuse, diffuse.base);
+    EXPECT_NEAR(g.specular.x, 0.04f, 1e-6f);
+    EXPECT_NEAR(g.alpha, 0.25f, 1e-6f);
+    const BsdfParams same = with_type(gltf, BsdfType::MetallicRoughness);
+    EXPECT_EQ(same.specular, gltf.specular);
+    EXPECT_EQ(same.roughness, gltf.roughness);
+}
+
 }  // namespace pv

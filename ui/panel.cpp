@@ -27,10 +27,12 @@ bool edit_material(Material& m) {
     BsdfParams f = bsdf_params(m.bsdf);
     int type = int(f.type);
     bool changed = ImGui::Combo("type", &type, "diffuse\0glossy\0mirror\0glass\0metallic-roughness\0");
-    f.type = BsdfType(type);
+    f = with_type(f, BsdfType(type));  // a new type's fields by meaning (core/material_params.h)
     if (f.type != BsdfType::Glass)
         changed |= ImGui::ColorEdit3(f.type == BsdfType::Mirror ? "reflectance" : "base colour", &f.base.x,
                                      ImGuiColorEditFlags_Float);
+    if (m.base_color_texture != kNoIndex && f.type != BsdfType::Glass && f.type != BsdfType::Mirror)
+        ImGui::TextDisabled("a base colour texture replaces this colour");
     if (f.type == BsdfType::Glossy) {
         changed |= ImGui::ColorEdit3("specular", &f.specular.x, ImGuiColorEditFlags_Float);
         changed |= ImGui::SliderFloat("roughness", &f.roughness, kMinAlpha, 1.f, "%.3f", ImGuiSliderFlags_Logarithmic);
@@ -44,7 +46,7 @@ bool edit_material(Material& m) {
         changed |= ImGui::SliderFloat("transmission", &f.transmission, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
         changed |= ImGui::SliderFloat("specular", &f.specular_weight, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
     }
-    if (changed) m.bsdf = make_bsdf(f);
+    if (changed) set_bsdf(m, f);  // fitted to the material's textures, as the loader fits it
 
     // Emission as a colour (largest channel 1) times a strength.
     float strength = max_component(m.emission);
