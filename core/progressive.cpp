@@ -49,6 +49,7 @@ uint64_t ProgressiveRenderer::restart(const RenderRequest& request) {
         std::lock_guard<std::mutex> lock(m_mutex);
         m_pending = request;
         generation = ++m_generation;
+        m_request_posted = std::chrono::steady_clock::now();
         m_cancel.store(true);
     }
     m_wake.notify_all();
@@ -167,6 +168,7 @@ void ProgressiveRenderer::drive() {
                 generation = m_generation;
                 m_cancel.store(false);
                 m_request_taken = std::chrono::steady_clock::now();
+                m_wait_ms = std::chrono::duration<double>(m_request_taken - m_request_posted).count() * 1e3;
                 has_request = is_new = true;
             }
             make_partial = has_request && !m_pending && m_partial_requested;
@@ -355,6 +357,7 @@ void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool
     }
     s.first_ready_ms = m_first_ready_ms;
     s.features_ms = m_first_features_ms;
+    s.wait_ms = m_wait_ms;
 
     std::function<void()> on_publish;
     {

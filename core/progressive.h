@@ -68,6 +68,7 @@ struct Snapshot {
     // (0 when not denoising). Later snapshots of the same accumulation carry the same figures.
     double first_ready_ms = 0.0;
     double features_ms = 0.0;
+    double wait_ms = 0.0;  // from restart() to the driver taking the request (the pass or filter it had to end)
     CameraDesc camera;
     RenderSettings settings;
     PixelRect region;   // the render region (the whole image without one): pixels outside have no samples
@@ -159,8 +160,10 @@ private:
     uint32_t m_denoised_spp = 0;
     double m_denoise_seconds = 0.0;
     std::chrono::steady_clock::time_point m_denoise_end{};
-    double m_features_seconds = 0.0;                          // the last feature pass
-    std::chrono::steady_clock::time_point m_request_taken{};  // when the driver took the current request
+    double m_features_seconds = 0.0;                           // the last feature pass
+    std::chrono::steady_clock::time_point m_request_taken{};   // when the driver took the current request
+    std::chrono::steady_clock::time_point m_request_posted{};  // when restart() posted it (under m_mutex)
+    double m_wait_ms = 0.0;
     uint64_t m_first_generation = 0;  // the accumulation whose first publication the next two describe
     double m_first_ready_ms = 0.0, m_first_features_ms = 0.0;
 
