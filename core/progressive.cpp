@@ -115,6 +115,11 @@ bool ProgressiveRenderer::latest(Snapshot& out) const {
     return true;
 }
 
+uint64_t ProgressiveRenderer::published_generation() const {
+    std::lock_guard<std::mutex> lock(m_snapshot_mutex);
+    return m_front.generation;
+}
+
 bool ProgressiveRenderer::wait_for(uint64_t generation, uint32_t min_spp, std::chrono::milliseconds timeout) const {
     std::unique_lock<std::mutex> lock(m_snapshot_mutex);
     return m_published.wait_for(lock, timeout, [&] {
@@ -290,9 +295,14 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
     if (new_features || (m_features_samples < kFeatureSamples && spp >= 2)) {
         // The filter lays the features out in its own planes; the image itself is not kept.
         const auto features_start = std::chrono::steady_clock::now();
-        m_features_samples = new_features && spp < 2 ? kFirstFeatureSamples : kFeatureSamples;
-        m_atrous.set_features(render_features(m_renderer.traceable(), m_renderer.camera(), film.width(), film.height(),
-                                              m_features_samples, m_renderer.settings().seed));
+        const int samples = new_features && spp < 2 ? kFirstFeatureSamples : kFeatureSamples;
+        FeatureImage features = render_features(m_renderer.traceable(), m_renderer.camera(), film.width(),
+                                                film.height(), samples, m_renderer.settings().seed, &m_cancel);
+        // A newer request cancels the feature pass (the filter at full resolution made the next camera move wait
+        // for it); the snapshot is then not published at all.
+        if (m_cancel.load()) return;
+        m_atrous.set_features(std::move(features));
+        m_features_samples = samples;
         m_features_generation = generation;
         m_features_width = film.width();
         m_features_height = film.height();
@@ -310,6 +320,7 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
 
 void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool force_denoise) {
     update_denoised(generation, force_denoise || target_reached);
+    if (m_cancel.load()) return;  // superseded meanwhile: the driver takes the new request next
     // Fill the back buffer outside any lock, then swap it in: the UI's copy never waits for this loop.
     const Film& film = m_renderer.film();
     const RenderStats& st = m_renderer.stats();

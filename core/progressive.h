@@ -98,6 +98,8 @@ public:
 
     // Copies the latest snapshot into `out` if its serial is newer than out.serial; returns whether it did.
     bool latest(Snapshot& out) const;
+    // The generation of the latest snapshot (0 before the first); cheap, for the viewer's frame pacing.
+    uint64_t published_generation() const;
     // Blocks until a snapshot of `generation` with spp >= min_spp is published, or the timeout passes
     // (tests and tools; the viewer never waits).
     bool wait_for(uint64_t generation, uint32_t min_spp, std::chrono::milliseconds timeout) const;

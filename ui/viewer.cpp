@@ -223,8 +223,12 @@ bool Viewer::wait_for_work() {
     const bool continuous = fly_keys || m_settle_frames > 0;  // held keys send no events
     // A deferred camera move needs a frame when its wait expires, even if nothing else happens.
     if (!continuous && !m_input.any) glfwWaitEventsTimeout(m_schedule.wait_timeout(glfwGetTime(), 0.5));
+    // The first pass of a new accumulation is shown at once, though: it answers an input event.
     const double next = m_last_frame + 1.0 / m_window.refresh_hz();
-    for (double now = glfwGetTime(); now < next; now = glfwGetTime()) glfwWaitEventsTimeout(next - now);
+    for (double now = glfwGetTime(); now < next; now = glfwGetTime()) {
+        if (m_renderer->published_generation() > m_image.shown().generation) break;
+        glfwWaitEventsTimeout(next - now);
+    }
     glfwPollEvents();
 
     bool work = continuous || m_input.any || m_schedule.deferral_expired(glfwGetTime());
