@@ -78,7 +78,7 @@ FeatureSample trace_features(const TraceableScene& ts, Ray ray, Sampler& sampler
 }
 
 FeatureImage render_features(const TraceableScene& ts, const Camera& camera, int width, int height, int samples,
-                             uint32_t seed) {
+                             uint32_t seed, const std::atomic<bool>* cancel) {
     FeatureImage img;
     img.width = width;
     img.height = height;
@@ -91,7 +91,8 @@ FeatureImage render_features(const TraceableScene& ts, const Camera& camera, int
         enable_ftz_daz();
         // Independent of the render's samples: a sampler of its own seed.
         Sampler sampler(seed ^ 0x41f0u, SamplerKind::Independent);
-        for (int y = rows.begin(); y != rows.end(); ++y)
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+            if (cancel && cancel->load(std::memory_order_relaxed)) return;
             for (int x = 0; x < width; ++x) {
                 FeatureSample acc;
                 for (int s = 0; s < samples; ++s) {
@@ -106,6 +107,7 @@ FeatureImage render_features(const TraceableScene& ts, const Camera& camera, int
                 img.normal[i] = acc.normal * inv;  // averaged: shorter than 1 across an edge, as denoisers expect
                 img.depth[i] = acc.depth * inv;
             }
+        }
     });
     return img;
 }

@@ -18,6 +18,7 @@
 // 0 and Z 0.
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -46,9 +47,10 @@ struct FeatureImage {
 FeatureSample trace_features(const TraceableScene& ts, Ray ray, Sampler& sampler);
 
 // Features of every pixel averaged over `samples` jittered camera rays (the film's box filter, the lens too).
-// Deterministic in (pixel, sample, seed); parallel over rows.
+// Deterministic in (pixel, sample, seed); parallel over rows. When *cancel turns true the remaining rows are
+// skipped and the image is incomplete (the caller checks the flag and drops it).
 FeatureImage render_features(const TraceableScene& ts, const Camera& camera, int width, int height, int samples = 8,
-                             uint32_t seed = 0);
+                             uint32_t seed = 0, const std::atomic<bool>* cancel = nullptr);
 
 // A named group of float channels of one image size: channels[k] is channel k's name; data holds
 // channels.size() floats per pixel, interleaved, row-major.

@@ -49,6 +49,7 @@ uint64_t ProgressiveRenderer::restart(const RenderRequest& request) {
         std::lock_guard<std::mutex> lock(m_mutex);
         m_pending = request;
         generation = ++m_generation;
+        m_request_posted = std::chrono::steady_clock::now();
         m_cancel.store(true);
     }
     m_wake.notify_all();
@@ -114,6 +115,11 @@ bool ProgressiveRenderer::latest(Snapshot& out) const {
     return true;
 }
 
+uint64_t ProgressiveRenderer::published_generation() const {
+    std::lock_guard<std::mutex> lock(m_snapshot_mutex);
+    return m_front.generation;
+}
+
 bool ProgressiveRenderer::wait_for(uint64_t generation, uint32_t min_spp, std::chrono::milliseconds timeout) const {
     std::unique_lock<std::mutex> lock(m_snapshot_mutex);
     return m_published.wait_for(lock, timeout, [&] {
@@ -166,6 +172,8 @@ void ProgressiveRenderer::drive() {
                 m_pending.reset();
                 generation = m_generation;
                 m_cancel.store(false);
+                m_request_taken = std::chrono::steady_clock::now();
+                m_wait_ms = std::chrono::duration<double>(m_request_taken - m_request_posted).count() * 1e3;
                 has_request = is_new = true;
             }
             make_partial = has_request && !m_pending && m_partial_requested;
@@ -278,13 +286,27 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
     const bool due =
         force || stale || std::chrono::duration<double>(now - m_denoise_end).count() >= 2.0 * m_denoise_seconds;
     if (!due || (m_denoised_generation == generation && m_denoised_spp == spp)) return;
-    if (m_features_generation != generation || m_features_width != film.width() || m_features_height != film.height()) {
+    // The features of a new accumulation take one sample per pixel, so the first frame after a camera move waits
+    // for a quarter of the feature pass (it took as long as the pass itself); from the second pass on, the filter
+    // gets features of kFeatureSamples, which smooth its edges.
+    constexpr int kFirstFeatureSamples = 1, kFeatureSamples = 4;
+    const bool new_features =
+        m_features_generation != generation || m_features_width != film.width() || m_features_height != film.height();
+    if (new_features || (m_features_samples < kFeatureSamples && spp >= 2)) {
         // The filter lays the features out in its own planes; the image itself is not kept.
-        m_atrous.set_features(render_features(m_renderer.traceable(), m_renderer.camera(), film.width(), film.height(),
-                                              4, m_renderer.settings().seed));
+        const auto features_start = std::chrono::steady_clock::now();
+        const int samples = new_features && spp < 2 ? kFirstFeatureSamples : kFeatureSamples;
+        FeatureImage features = render_features(m_renderer.traceable(), m_renderer.camera(), film.width(),
+                                                film.height(), samples, m_renderer.settings().seed, &m_cancel);
+        // A newer request cancels the feature pass (the filter at full resolution made the next camera move wait
+        // for it); the snapshot is then not published at all.
+        if (m_cancel.load()) return;
+        m_atrous.set_features(std::move(features));
+        m_features_samples = samples;
         m_features_generation = generation;
         m_features_width = film.width();
         m_features_height = film.height();
+        m_features_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - features_start).count();
     }
     // The filter's own time sets the throttle: the feature pass above runs once per generation, and counting it
     // made the second pass of every accumulation (each coarse pass while orbiting) go undenoised.
@@ -298,6 +320,7 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
 
 void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool force_denoise) {
     update_denoised(generation, force_denoise || target_reached);
+    if (m_cancel.load()) return;  // superseded meanwhile: the driver takes the new request next
     // Fill the back buffer outside any lock, then swap it in: the UI's copy never waits for this loop.
     const Film& film = m_renderer.film();
     const RenderStats& st = m_renderer.stats();
@@ -337,6 +360,15 @@ void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool
     s.camera = m_renderer.camera().desc();
     s.settings = m_renderer.settings();
     s.metadata = render_metadata(m_renderer);
+    if (m_first_generation != generation) {  // the accumulation's first publication
+        m_first_generation = generation;
+        m_first_ready_ms =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - m_request_taken).count() * 1e3;
+        m_first_features_ms = m_features_generation == generation ? m_features_seconds * 1e3 : 0.0;
+    }
+    s.first_ready_ms = m_first_ready_ms;
+    s.features_ms = m_first_features_ms;
+    s.wait_ms = m_wait_ms;
 
     std::function<void()> on_publish;
     {

@@ -63,6 +63,12 @@ struct Snapshot {
     std::vector<float> denoised;
     uint32_t denoised_spp = 0;
     double denoise_ms = 0.0;
+    // The first publication of an accumulation: the driver's time from taking the request to this snapshot being
+    // ready (restart, sky guide, the pass, the denoiser's features and filter, the copy), and the features' share
+    // (0 when not denoising). Later snapshots of the same accumulation carry the same figures.
+    double first_ready_ms = 0.0;
+    double features_ms = 0.0;
+    double wait_ms = 0.0;  // from restart() to the driver taking the request (the pass or filter it had to end)
     CameraDesc camera;
     RenderSettings settings;
     PixelRect region;   // the render region (the whole image without one): pixels outside have no samples
@@ -92,6 +98,8 @@ public:
 
     // Copies the latest snapshot into `out` if its serial is newer than out.serial; returns whether it did.
     bool latest(Snapshot& out) const;
+    // The generation of the latest snapshot (0 before the first); cheap, for the viewer's frame pacing.
+    uint64_t published_generation() const;
     // Blocks until a snapshot of `generation` with spp >= min_spp is published, or the timeout passes
     // (tests and tools; the viewer never waits).
     bool wait_for(uint64_t generation, uint32_t min_spp, std::chrono::milliseconds timeout) const;
@@ -147,12 +155,19 @@ private:
     // denoised image, what it was made from, and the filter's timing (for the throttle).
     uint64_t m_features_generation = 0;
     int m_features_width = 0, m_features_height = 0;
-    AtrousDenoiser m_atrous;  // keeps its feature planes and memory between frames
+    int m_features_samples = 0;  // per pixel, of the features the filter holds
+    AtrousDenoiser m_atrous;     // keeps its feature planes and memory between frames
     Image m_denoised_image;
     uint64_t m_denoised_generation = 0;
     uint32_t m_denoised_spp = 0;
     double m_denoise_seconds = 0.0;
     std::chrono::steady_clock::time_point m_denoise_end{};
+    double m_features_seconds = 0.0;                           // the last feature pass
+    std::chrono::steady_clock::time_point m_request_taken{};   // when the driver took the current request
+    std::chrono::steady_clock::time_point m_request_posted{};  // when restart() posted it (under m_mutex)
+    double m_wait_ms = 0.0;
+    uint64_t m_first_generation = 0;  // the accumulation whose first publication the next two describe
+    double m_first_ready_ms = 0.0, m_first_features_ms = 0.0;
 
     // The published snapshot, under m_snapshot_mutex; the driver fills m_back outside it.
     mutable std::mutex m_snapshot_mutex;

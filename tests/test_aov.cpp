@@ -4,6 +4,7 @@
 // round trip with its error for a mis-sized layer.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
 
 #include "core/aov.h"
@@ -98,6 +99,27 @@ TEST(Aov, RenderFeaturesMatchesSingleRays) {
     EXPECT_NEAR(img.albedo[i].x, 0.725f, 1e-5f);
     EXPECT_NEAR(img.normal[i].z, -1.f, 1e-4f);
     EXPECT_GT(img.depth[i], 1359.f);
+}
+
+// A raised cancel flag stops the feature pass before any row (the viewer drops such an image); a lowered one
+// changes nothing.
+TEST(Aov, RenderFeaturesStopsWhenCancelled) {
+    const test::Tracer tracer(test::cornell_box());
+    const int w = 16, h = 16;
+    const Camera camera(test::cornell_box()->camera, w, h);
+    std::atomic<bool> cancel{true};
+    const FeatureImage stopped = render_features(tracer, camera, w, h, 4, 0, &cancel);
+    ASSERT_EQ(stopped.albedo.size(), size_t(w * h));
+    for (size_t i = 0; i < stopped.albedo.size(); ++i) {
+        EXPECT_EQ(stopped.albedo[i], vec3(0.f)) << i;
+        EXPECT_EQ(stopped.depth[i], 0.f) << i;
+    }
+    cancel = false;
+    const FeatureImage full = render_features(tracer, camera, w, h, 4, 0, &cancel);
+    const FeatureImage reference = render_features(tracer, camera, w, h, 4, 0);
+    EXPECT_EQ(full.albedo, reference.albedo);
+    EXPECT_EQ(full.normal, reference.normal);
+    EXPECT_EQ(full.depth, reference.depth);
 }
 
 TEST(Aov, FilmLayers) {

@@ -43,9 +43,12 @@ void FrameStats::log_if_due(ViewLog& log, const Snapshot& s) {
 
 void log_frames_shown(ViewLog& log, RefinementSchedule& schedule, const Snapshot& shown, double end) {
     for (const RefinementSchedule::PendingFrame& p : schedule.shown(shown.generation))
-        log.line("frame gen=%llu shown_gen=%llu latency_ms=%.1f reason=%s size=%dx%d spp=%u",
-                 (unsigned long long)p.generation, (unsigned long long)shown.generation, (end - p.since) * 1e3,
-                 p.reason.c_str(), shown.width, shown.height, shown.spp);
+        log.line(
+            "frame gen=%llu shown_gen=%llu latency_ms=%.1f reason=%s size=%dx%d spp=%u ready_ms=%.1f "
+            "features_ms=%.1f denoise_ms=%.1f pass_ms=%.1f wait_ms=%.1f",
+            (unsigned long long)p.generation, (unsigned long long)shown.generation, (end - p.since) * 1e3,
+            p.reason.c_str(), shown.width, shown.height, shown.spp, shown.first_ready_ms, shown.features_ms,
+            shown.denoise_ms, shown.ms_per_pass, shown.wait_ms);
 }
 
 }  // namespace pv::ui

@@ -10,7 +10,7 @@ std::optional<RefinementSchedule::Restart> RefinementSchedule::update(const std:
                                                                       uint32_t shown_spp) {
     std::string reason = reason_in;
     const bool waiting = shown_generation < m_posted && now - m_last_change < kMaxDeferSeconds;
-    if (reason == "camera" && m_level == kCoarsestLevel && waiting) {
+    if (reason == "camera" && m_level == m_coarse_level && waiting) {
         if (!m_deferred) m_deferred_since = since;
         m_deferred = true;
         return std::nullopt;
@@ -18,7 +18,7 @@ std::optional<RefinementSchedule::Restart> RefinementSchedule::update(const std:
     if (reason.empty() && m_deferred && !waiting) reason = "camera";
     if (!reason.empty()) {
         Restart r{reason, m_deferred ? std::min(m_deferred_since, since) : since};
-        m_level = kCoarsestLevel;
+        m_level = m_coarse_level;
         m_deferred = false;
         return r;
     }
@@ -29,8 +29,20 @@ std::optional<RefinementSchedule::Restart> RefinementSchedule::update(const std:
     return std::nullopt;
 }
 
+int RefinementSchedule::choose_coarse_level(double seconds_per_pixel, double full_pixels, double budget_seconds) {
+    if (!(seconds_per_pixel > 0.0)) return kCoarsestLevel;
+    for (int level = kMinCoarseLevel; level < kMaxCoarseLevel; level *= 2)
+        if (seconds_per_pixel * full_pixels / double(level * level) <= budget_seconds) return level;
+    return kMaxCoarseLevel;
+}
+
+void RefinementSchedule::measured_first_pass(double seconds, int pixels, double full_pixels, double budget_seconds) {
+    if (pixels > 0 && seconds > 0.0)
+        m_coarse_level = choose_coarse_level(seconds / double(pixels), full_pixels, budget_seconds);
+}
+
 RefinementSchedule::Restart RefinementSchedule::coarse(const std::string& reason, double now) {
-    m_level = kCoarsestLevel;
+    m_level = m_coarse_level;
     return Restart{reason, now};
 }
 
@@ -53,6 +65,7 @@ void RefinementSchedule::reset() {
     m_pending.clear();
     m_posted = 0;
     m_deferred = false;
+    m_coarse_level = kCoarsestLevel;  // a new scene: its pass times are not known yet
 }
 
 double RefinementSchedule::wait_timeout(double now, double idle_timeout) const {

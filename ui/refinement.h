@@ -1,10 +1,11 @@
-// ui/refinement.h: the viewer's refinement schedule. Any change restarts the accumulation at 1/kCoarsestLevel of
-// the image region's resolution, so the picture follows the mouse; at rest (no change for kRestSeconds, and the
-// pass on screen belongs to the latest request) it is refined to 1/2, then full resolution. While the camera moves,
-// a new coarse request is deferred until the coarse pass in flight has landed (at most kMaxDeferSeconds), so a pass
-// that takes longer than a UI frame is never cancelled for the next mouse position and the picture keeps moving.
-// It also keeps the requests waiting for their first frame on screen, for the input-to-frame latency in the log.
-// Window-free; the viewer feeds it times (seconds) and the generation of the snapshot on screen.
+// ui/refinement.h: the viewer's refinement schedule. Any change restarts the accumulation at a coarse resolution
+// (1/8, 1/4 or 1/2 of the image region's, the finest whose first frame the last measured pass time predicts within
+// about one display refresh; 1/4 before any measurement), so the picture follows the mouse; at rest (no change for
+// kRestSeconds, and the pass on screen belongs to the latest request) it is refined to 1/2, then full resolution. While
+// the camera moves, a new coarse request is deferred until the coarse pass in flight has landed (at most
+// kMaxDeferSeconds), so a pass that takes longer than a UI frame is never cancelled for the next mouse position and the
+// picture keeps moving. It also keeps the requests waiting for their first frame on screen, for the input-to-frame
+// latency in the log. Window-free; the viewer feeds it times (seconds) and the generation of the snapshot on screen.
 #pragma once
 
 #include <cstdint>
@@ -17,7 +18,9 @@ namespace pv::ui {
 
 class RefinementSchedule {
 public:
-    static constexpr int kCoarsestLevel = 4;         // resolution divisor right after a change
+    static constexpr int kCoarsestLevel = 4;         // resolution divisor right after a change, until measured
+    static constexpr int kMaxCoarseLevel = 8;        // the coarse levels chosen from measured pass times:
+    static constexpr int kMinCoarseLevel = 2;        //   8, 4 or 2
     static constexpr double kRestSeconds = 0.12;     // no change for this long: refine one level
     static constexpr double kMaxDeferSeconds = 1.0;  // a camera move waits at most this long for the coarse pass
 
@@ -43,6 +46,14 @@ public:
     void posted(uint64_t generation, const Restart& restart, double now);
     // The requests the snapshot of `shown_generation` completes, oldest first (removed from the schedule).
     std::vector<PendingFrame> shown(uint64_t shown_generation);
+    // The first pass's resolution divisor: the finest of 2, 4, 8 whose predicted first frame,
+    // seconds_per_pixel * full_pixels / level^2, fits budget_seconds; 8 when none does, kCoarsestLevel when nothing
+    // was measured yet (seconds_per_pixel <= 0). Pure.
+    static int choose_coarse_level(double seconds_per_pixel, double full_pixels, double budget_seconds);
+    // The driver took `seconds` from a request to the first snapshot of `pixels` pixels: restarts from now on start
+    // at choose_coarse_level() for an image region of full_pixels and a budget of budget_seconds.
+    void measured_first_pass(double seconds, int pixels, double full_pixels, double budget_seconds);
+    int coarse_level() const { return m_coarse_level; }
     // A new renderer: generations restart at 1, nothing is pending.
     void reset();
 
@@ -55,6 +66,7 @@ public:
 
 private:
     int m_level = kCoarsestLevel;
+    int m_coarse_level = kCoarsestLevel;  // where a change restarts
     uint64_t m_posted = 0;
     double m_last_change = 0.0;
     bool m_deferred = false;        // a camera move waits for the coarse pass in flight

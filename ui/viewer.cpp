@@ -3,10 +3,10 @@
 // want it, 4 restart on a change, 5 snapshot -> texture -> display pass, 6 ImGui on top, swap.
 // Each step calls into a room that owns one concern; all but window.h and display.h need no window:
 // window.h (GLFW, GL context, ImGui set-up, loading screen), navigation.h (gestures -> camera), refinement.h
-// (1/4 -> 1/2 -> full resolution, deferral, latency), restarts.h (change -> request -> renderer), shown_image.h
-// (the accumulation on screen and its convergence history), scene_loader.h (loads off the UI thread),
-// active_scene.h (the scene's state and warnings), bookmarks.h, snapshots.h (EXR snapshots), frame_stats.h
-// (telemetry), panel.h (the ImGui panel), display.h (the GL display pass).
+// (coarse -> ... -> full resolution, the coarse level from measured pass times, deferral, latency), restarts.h (change
+// -> request -> renderer), shown_image.h (the accumulation on screen and its convergence history), scene_loader.h
+// (loads off the UI thread), active_scene.h (the scene's state and warnings), bookmarks.h, snapshots.h (EXR snapshots),
+// frame_stats.h (telemetry), panel.h (the ImGui panel), display.h (the GL display pass).
 #include "viewer.h"
 
 #include <imgui.h>
@@ -223,8 +223,12 @@ bool Viewer::wait_for_work() {
     const bool continuous = fly_keys || m_settle_frames > 0;  // held keys send no events
     // A deferred camera move needs a frame when its wait expires, even if nothing else happens.
     if (!continuous && !m_input.any) glfwWaitEventsTimeout(m_schedule.wait_timeout(glfwGetTime(), 0.5));
+    // The first pass of a new accumulation is shown at once, though: it answers an input event.
     const double next = m_last_frame + 1.0 / m_window.refresh_hz();
-    for (double now = glfwGetTime(); now < next; now = glfwGetTime()) glfwWaitEventsTimeout(next - now);
+    for (double now = glfwGetTime(); now < next; now = glfwGetTime()) {
+        if (m_renderer->published_generation() > m_image.shown().generation) break;
+        glfwWaitEventsTimeout(next - now);
+    }
     glfwPollEvents();
 
     bool work = continuous || m_input.any || m_schedule.deferral_expired(glfwGetTime());
@@ -234,6 +238,12 @@ bool Viewer::wait_for_work() {
                                  m_image.displayed().denoised_spp == m_image.displayed().spp);
         m_compare.update(m_image.shown());
         upload_difference();
+        // The next change restarts at the finest resolution whose first frame is predicted to be ready within
+        // three quarters of a display refresh (the rest is the UI's frame).
+        const Snapshot& s = m_image.shown();
+        if (m_full_w > 0)
+            m_schedule.measured_first_pass(s.first_ready_ms * 1e-3, s.width * s.height, double(m_full_w) * m_full_h,
+                                           0.75 / m_window.refresh_hz());
         work = true;
     }
     if (m_snapshots.save_partial(m_renderer->take_partial(), m_state)) work = true;

@@ -280,6 +280,57 @@ TEST(ViewerRefinement, RestartsCoarseAndRefinesAtRest) {
     EXPECT_EQ(s.level(), 1);
 }
 
+// The first pass's divisor: the finest of 2, 4, 8 whose predicted time (time per pixel x the pixels at that level)
+// fits the budget; 8 when none fits; 4 while nothing is measured.
+TEST(ViewerRefinement, CoarseLevelIsTheFinestThatFitsTheBudget) {
+    const double full = 640.0 * 480.0, budget = 0.012;
+    auto level = [&](double full_frame_seconds) {
+        return RefinementSchedule::choose_coarse_level(full_frame_seconds / full, full, budget);
+    };
+    EXPECT_EQ(RefinementSchedule::choose_coarse_level(0.0, full, budget), RefinementSchedule::kCoarsestLevel);
+    EXPECT_EQ(RefinementSchedule::choose_coarse_level(-1.0, full, budget), RefinementSchedule::kCoarsestLevel);
+    EXPECT_EQ(level(0.001), 2);            // never full resolution: the refinement follows at rest
+    EXPECT_EQ(level(4.0 * budget), 2);     // 1/2: a quarter of the pixels, exactly the budget
+    EXPECT_EQ(level(4.1 * budget), 4);     // just over at 1/2
+    EXPECT_EQ(level(16.0 * budget), 4);    // 1/4: a sixteenth
+    EXPECT_EQ(level(16.1 * budget), 8);    // just over at 1/4
+    EXPECT_EQ(level(1000.0 * budget), 8);  // nothing fits: the coarsest
+    // Monotone: a slower scene never gets a finer first pass.
+    int last = 2;
+    for (double t = 0.001; t < 2.0; t *= 1.1) {
+        const int l = level(t);
+        EXPECT_GE(l, last) << t;
+        last = l;
+    }
+}
+
+TEST(ViewerRefinement, MeasuredPassTimesSetWhereTheNextChangeRestarts) {
+    RefinementSchedule s;
+    EXPECT_EQ(s.coarse("initial", 0.0).reason, "initial");
+    EXPECT_EQ(s.level(), RefinementSchedule::kCoarsestLevel);  // nothing measured yet
+    // 50 ms for 160x120: 2.6 us a pixel, 200 ms at 1/4 of 640x480, 50 ms at 1/8: the coarsest.
+    s.measured_first_pass(0.05, 160 * 120, 640.0 * 480.0, 0.012);
+    EXPECT_EQ(s.coarse_level(), 8);
+    s.posted(1, s.coarse("scene", 0.0), 0.0);
+    EXPECT_EQ(s.level(), 8);
+    // Refinement halves from there: 8 -> 4 -> 2 -> 1.
+    s.posted(2, *s.update("", 1.0, 1.0, 1, 1), 1.0);
+    EXPECT_EQ(s.level(), 4);
+    // A camera move restarts at the measured level, deferred while its coarse pass is in flight.
+    s.measured_first_pass(0.002, 320 * 240, 640.0 * 480.0, 0.012);  // fast: 1/2 fits
+    const auto r = s.update("camera", 1.05, 1.05, 1, 1);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(s.level(), 2);
+    s.posted(3, *r, 1.05);
+    EXPECT_FALSE(s.update("camera", 1.06, 1.06, 2, 1));  // the 1/2 pass in flight: deferred
+    EXPECT_TRUE(s.deferred());
+    // A bad measurement (nothing rendered) changes nothing; a new scene starts unmeasured.
+    s.measured_first_pass(0.0, 0, 640.0 * 480.0, 0.012);
+    EXPECT_EQ(s.coarse_level(), 2);
+    s.reset();
+    EXPECT_EQ(s.coarse_level(), RefinementSchedule::kCoarsestLevel);
+}
+
 TEST(ViewerRefinement, CameraMoveWaitsForTheCoarsePassInFlight) {
     RefinementSchedule s;
     s.posted(1, s.coarse("initial", 0.0), 0.0);
