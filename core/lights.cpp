@@ -10,15 +10,31 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials, b
     : m_solid_angle(solid_angle) {
     std::vector<double> power;
     std::vector<float> areas;
-    // The mean RGB of each emissive texture (computed once per texture), which scales its emitters' power.
+    // The mean RGB of each emissive texture (computed once per texture), which scales its emitters' power: exact up
+    // to 2^22 texels, else from a 2048 x 2048 grid of lookups (any positive pmf is unbiased: when that grid finds
+    // only black, the flat emission's power, so that no triangle that may emit loses its pmf).
     std::vector<std::pair<uint32_t, vec3>> texture_means;
     auto emissive_mean = [&](uint32_t tex) {
         for (const auto& [t, mean] : texture_means)
             if (t == tex) return mean;
+        const Texture& texture = scene.textures[tex];
         dvec3 sum(0.0);
-        const std::vector<vec4> texels = scene.textures[tex].texels();
-        for (const vec4& x : texels) sum += dvec3(glm::max(vec3(x), vec3(0.f)));
-        const vec3 mean = texels.empty() ? vec3(0.f) : vec3(sum / double(texels.size()));
+        size_t count = 0;
+        const bool exact = size_t(texture.width()) * size_t(texture.height()) <= (size_t(1) << 22);
+        if (exact) {
+            const std::vector<vec4> texels = texture.texels();
+            for (const vec4& x : texels) sum += dvec3(glm::max(vec3(x), vec3(0.f)));
+            count = texels.size();
+        } else {
+            constexpr int kGrid = 2048;
+            for (int y = 0; y < kGrid; ++y)
+                for (int x = 0; x < kGrid; ++x)
+                    sum +=
+                        dvec3(glm::max(vec3(texture.lookup(vec2((x + 0.5f) / kGrid, (y + 0.5f) / kGrid))), vec3(0.f)));
+            count = size_t(kGrid) * kGrid;
+        }
+        vec3 mean = count ? vec3(sum / double(count)) : vec3(0.f);
+        if (!exact && is_black(mean)) mean = vec3(1.f);
         texture_means.emplace_back(tex, mean);
         return mean;
     };

@@ -115,7 +115,7 @@ private:
         float pmf;       // selection probability
         float pdf_area;  // pmf / area
         float inv_area;  // 1 / area (the tree's pdf_area is its pmf times this)
-        float power;     // luminance(Le) x area, doubled when two-sided
+        float power;     // luminance(Le x emissive texture mean) x area, doubled when two-sided
         bool two_sided;
         uint32_t alpha = kNoIndex;     // into m_alpha for an emitter with an alpha cut-out
         uint32_t emissive = kNoIndex;  // into m_emissive for an emitter with an emissive texture
