@@ -1072,8 +1072,8 @@ std::string tga_row(const std::vector<std::array<uint8_t, 4>>& rgba) {
 // base) under a 2 x 1 texture, white then black along u = (x + 1) / 2, clamped at the edges (bilinear: white for
 // u < 1/4, black for u > 3/4), and a grey floor at y = -1 in front of it. The camera sees emission 1 over the white
 // texel and 0 over the black one (every sample: the lamp reflects nothing); at a floor point, NEE alone and NEE+MIS
-// agree with BSDF sampling alone within a Sidak-corrected z bound from the sample variance. Before the fix the lamp
-// shone 1 everywhere, seen and light-sampled.
+// (power and tree selection) agree with BSDF sampling alone within a Sidak-corrected z bound from the sample variance.
+// Before the fix the lamp shone 1 everywhere, seen and light-sampled.
 TEST(LightSamplingEmissiveTexture, SeenAndLightSampledEmissionFollowTheTexture) {
     Gltf g;
     g.j["extensionsUsed"] = {"KHR_materials_specular"};
@@ -1101,7 +1101,7 @@ TEST(LightSamplingEmissiveTexture, SeenAndLightSampledEmissionFollowTheTexture) 
     ASSERT_EQ(scene->materials.size(), 2u);
     ASSERT_NE(scene->materials[0].emissive_texture, kNoIndex);
     ASSERT_EQ(scene->triangle_count(), 4u);
-    const test::Tracer tracer(scene);
+    test::Tracer tracer(scene);
 
     // Seen: a 32 x 32 view of x, y in [-0.8, 0.8] (vfov 2 atan(0.8 / 3)); columns 0-4 lie over u < 0.225, columns
     // 27-31 over u > 0.77, rows 10-21 within |y| < 0.3.
@@ -1136,14 +1136,21 @@ TEST(LightSamplingEmissiveTexture, SeenAndLightSampledEmissionFollowTheTexture) 
     struct Estimator {
         const char* name;
         bool nee, mis;
+        LightSamplerKind light_sampler = LightSamplerKind::Power;
     };
-    const Estimator estimators[] = {{"bsdf", false, false}, {"nee", true, false}, {"nee+mis", true, true}};
-    double mean[3], se[3];
-    for (int e = 0; e < 3; ++e) {
+    const Estimator estimators[] = {{"bsdf", false, false},
+                                    {"nee", true, false},
+                                    {"nee+mis", true, true},
+                                    {"nee+mis/tree", true, true, LightSamplerKind::Tree}};
+    constexpr int kEstimators = int(std::size(estimators));
+    double mean[kEstimators], se[kEstimators];
+    for (int e = 0; e < kEstimators; ++e) {
         RenderSettings s;
         s.sampler = SamplerKind::Independent;
         s.light_sampling = estimators[e].nee;
         s.mis = estimators[e].mis;
+        s.light_sampler = estimators[e].light_sampler;
+        tracer.set_light_sampler(estimators[e].light_sampler);  // as the Renderer applies it
         s.seed = 40 + uint32_t(e);
         test::Moments m;
         tracer.for_each_sample(
@@ -1152,8 +1159,8 @@ TEST(LightSamplingEmissiveTexture, SeenAndLightSampledEmissionFollowTheTexture) 
         se[e] = m.stderr_of_mean();
     }
     ASSERT_GT(mean[0], 0.0);
-    const double k = test::sidak_k(2.0);
-    for (int e = 1; e < 3; ++e) {
+    const double k = test::sidak_k(double(kEstimators - 1));
+    for (int e = 1; e < kEstimators; ++e) {
         const double z = (mean[e] - mean[0]) / std::hypot(se[e], se[0]);
         EXPECT_LE(std::fabs(z), k) << estimators[e].name << " " << mean[e] << " +- " << se[e] << " vs BSDF-only "
                                    << mean[0] << " +- " << se[0];
