@@ -126,10 +126,11 @@ bool PathWalker::step_with() {
                 m_front = glm::dot(-m_ray.d, m_sf.ng) > 0.f;
                 // Emission found by the BSDF-sampled ray; with NEE it is weighted so it is never counted twice.
                 if (TraceableScene::emits(mat, m_front)) {
+                    const vec3 le = emitted_at(scene, mat, hit.prim, hit.u, hit.v);
                     if (!nee || m_specular_bounce)
-                        m_L += m_beta * mat.emission;
+                        m_L += m_beta * le;
                     else
-                        m_L += m_beta * mat.emission *
+                        m_L += m_beta * le *
                                bsdf_hit_weight(mis, m_prev_pdf,
                                                ts.light_pdf_hit(hit.prim, m_prev_p, m_prev_n, m_sf.p, m_sf.ng));
                 }

@@ -10,13 +10,45 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials, b
     : m_solid_angle(solid_angle) {
     std::vector<double> power;
     std::vector<float> areas;
+    // The mean RGB of each emissive texture (computed once per texture), which scales its emitters' power: exact up
+    // to 2^22 texels, else from a 2048 x 2048 grid of lookups (any positive pmf is unbiased: when that grid finds
+    // only black, the flat emission's power, so that no triangle that may emit loses its pmf).
+    std::vector<std::pair<uint32_t, vec3>> texture_means;
+    auto emissive_mean = [&](uint32_t tex) {
+        for (const auto& [t, mean] : texture_means)
+            if (t == tex) return mean;
+        const Texture& texture = scene.textures[tex];
+        dvec3 sum(0.0);
+        size_t count = 0;
+        const bool exact = size_t(texture.width()) * size_t(texture.height()) <= (size_t(1) << 22);
+        if (exact) {
+            const std::vector<vec4> texels = texture.texels();
+            for (const vec4& x : texels) sum += dvec3(glm::max(vec3(x), vec3(0.f)));
+            count = texels.size();
+        } else {
+            constexpr int kGrid = 2048;
+            for (int y = 0; y < kGrid; ++y)
+                for (int x = 0; x < kGrid; ++x)
+                    sum +=
+                        dvec3(glm::max(vec3(texture.lookup(vec2((x + 0.5f) / kGrid, (y + 0.5f) / kGrid))), vec3(0.f)));
+            count = size_t(kGrid) * kGrid;
+        }
+        vec3 mean = count ? vec3(sum / double(count)) : vec3(0.f);
+        if (!exact && is_black(mean)) mean = vec3(1.f);
+        texture_means.emplace_back(tex, mean);
+        return mean;
+    };
+    auto has_emissive_texture = [&](const Material& m) {
+        return m.emissive_texture != kNoIndex && m.emissive_texture < scene.textures.size();
+    };
     for (uint32_t i = 0; i < scene.triangles.size(); ++i) {
         const Material& m = materials[scene.material_ids[i]];
         if (!m.has_emission()) continue;
         const uvec3 t = scene.triangles[i];
         const vec3 p0 = scene.positions[t.x];
         const float area = 0.5f * glm::length(glm::cross(scene.positions[t.y] - p0, scene.positions[t.z] - p0));
-        const double w = double(luminance(m.emission)) * area * (m.two_sided_emission ? 2.0 : 1.0);
+        const vec3 le = has_emissive_texture(m) ? m.emission * emissive_mean(m.emissive_texture) : m.emission;
+        const double w = double(luminance(le)) * area * (m.two_sided_emission ? 2.0 : 1.0);
         // Zero-area triangles, and emission whose power is not a positive finite number (an MTL "Ke 1e39" parses
         // as +inf), are never light-sampled: one infinite power would make every pmf 0 or NaN.
         if (!(area > 0.f) || !(w > 0.0) || !std::isfinite(w)) continue;
@@ -48,6 +80,16 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials, b
             m_emitters.back().alpha = uint32_t(m_alpha.size());
             m_alpha.push_back({&scene.textures[m.alpha_texture], scene.uv_at(tri, 0.f, 0.f), scene.uv_at(tri, 1.f, 0.f),
                                scene.uv_at(tri, 0.f, 1.f)});
+        }
+        if (has_emissive_texture(m)) {
+            // The texture's set (0 or 1) at the corners, untransformed: sample() interpolates, then transforms, as
+            // Scene::texcoord does for a hit.
+            UvTransform set;
+            set.set = m.emissive_uv.set;
+            m_emitters.back().emissive = uint32_t(m_emissive.size());
+            m_emissive.push_back({&scene.textures[m.emissive_texture], m.emissive_uv,
+                                  scene.texcoord(tri, 0.f, 0.f, set), scene.texcoord(tri, 1.f, 0.f, set),
+                                  scene.texcoord(tri, 0.f, 1.f, set)});
         }
     }
 }

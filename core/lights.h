@@ -6,6 +6,8 @@
 // kMaxSphericalSolidAngle]; elsewhere uniformly by area, pdf_w = pmf / area * d^2 / |cos_light|. pdf() applies the
 // same rule to the same point, so the density MIS weighs a BSDF-found emitter with is exactly the rule's.
 // An emitter with an alpha cut-out (map_d, or map_Kd's alpha) emits alpha * Le at each point, light-sampled or hit.
+// An emitter with a glTF emissiveTexture emits Le x texel RGB at each point (core/shading.h's emitted_at); its power
+// is luminance(Le x the texture's mean RGB) x area (any positive pmf is unbiased; the mean favours bright textures).
 // Zero-area and non-emissive triangles are never chosen, nor are emitters whose share of the power is below
 // about 2^-24 (their pmf is 0): the integrator leaves those to BSDF sampling, as it does any emitter of pdf 0.
 #pragma once
@@ -113,17 +115,25 @@ private:
         float pmf;       // selection probability
         float pdf_area;  // pmf / area
         float inv_area;  // 1 / area (the tree's pdf_area is its pmf times this)
-        float power;     // luminance(Le) x area, doubled when two-sided
+        float power;     // luminance(Le x emissive texture mean) x area, doubled when two-sided
         bool two_sided;
-        uint32_t alpha = kNoIndex;  // into m_alpha for an emitter with an alpha cut-out
+        uint32_t alpha = kNoIndex;     // into m_alpha for an emitter with an alpha cut-out
+        uint32_t emissive = kNoIndex;  // into m_emissive for an emitter with an emissive texture
     };
     // An emitter's alpha texture and its corners' uvs.
     struct AlphaCut {
         const Texture* texture;
         vec2 uv0, uv1, uv2;
     };
+    // An emitter's emissive texture, its uv rule (Material::emissive_uv) and its corners' uvs in that rule's set.
+    struct EmissiveCut {
+        const Texture* texture;
+        UvTransform transform;
+        vec2 uv0, uv1, uv2;
+    };
     std::vector<Emitter> m_emitters;
     std::vector<AlphaCut> m_alpha;
+    std::vector<EmissiveCut> m_emissive;
     // Whether ref sees emitter e under a solid angle the spherical rule samples (omega: that solid angle).
     bool spherical(const Emitter& e, vec3 ref, float& omega) const;
 
@@ -181,6 +191,11 @@ inline bool LightSet::sample(vec3 ref, vec3 ref_n, float u_select, vec2 u, Light
         // there, since the stochastic alpha test (core/accel.cpp) keeps such a hit with probability alpha.
         const AlphaCut& a = m_alpha[e.alpha];
         ls.le *= glm::clamp(a.texture->lookup(b0 * a.uv0 + b.x * a.uv1 + b.y * a.uv2).w, 0.f, 1.f);
+    }
+    if (e.emissive != kNoIndex) {
+        // The emissive texture at the point's uv, as a BSDF-sampled ray finds it there (Scene::texcoord's formula).
+        const EmissiveCut& t = m_emissive[e.emissive];
+        ls.le *= vec3(t.texture->lookup(t.transform.apply(Scene::interpolate_uv(t.uv0, t.uv1, t.uv2, b.x, b.y))));
     }
     const float pdf_area = m_use_tree ? pmf * e.inv_area : e.pdf_area;
     ls.pdf = by_solid_angle ? pmf / omega : pdf_area * d2 / std::fabs(cos_l);

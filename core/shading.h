@@ -23,6 +23,13 @@ inline void apply_normal_map(const Scene& s, const Material& mat, const Hit& hit
     if (n != sf.ns) sf.ns = valid_reflection_normal(sf.ng, wo_world, n);
 }
 
+// The radiance `mat` emits at hit (prim, u, v) (when it emits there: TraceableScene::emits): its emission times its
+// emissive texture's RGB at that texture's uv (Scene::texcoord, the light set's rule), the emission alone without one.
+inline vec3 emitted_at(const Scene& s, const Material& mat, uint32_t prim, float u, float v) {
+    if (mat.emissive_texture == kNoIndex) return mat.emission;
+    return mat.emission * vec3(s.textures[mat.emissive_texture].lookup(s.texcoord(prim, u, v, mat.emissive_uv)));
+}
+
 // What a hit's BSDF reads per hit besides the material's constant one.
 struct HitTextures {
     const Texture* base_color = nullptr;   // the material's base-colour texture, read at uv

@@ -139,7 +139,8 @@ void train_path(const TraceableScene& ts, const SkyGuideGrid& grid, Ray ray, Pcg
         apply_normal_map(scene, mat, hit, scene.uv_at(hit.prim, hit.u, hit.v), wo_world, sf);
         const Bsdf bsdf = hit_bsdf(mat, hit_textures(scene, mat, hit));
         const bool front = glm::dot(wo_world, sf.ng) > 0.f;
-        if (emission_counts && TraceableScene::emits(mat, front)) tally.y += double(luminance(beta * mat.emission));
+        if (emission_counts && TraceableScene::emits(mat, front))
+            tally.y += double(luminance(beta * emitted_at(scene, mat, hit.prim, hit.u, hit.v)));
         const auto [ng, ns] = shading_normals(sf, wo_world, front, mat.bsdf);
         const Frame frame(ns);
         const vec3 wo = frame.to_local(wo_world);

@@ -107,7 +107,7 @@ public:
     float light_pdf_escape(vec3 ref, vec3 dir) const {
         return m_environment.is_black() ? 0.f : escape_pdf(ref, dir, m_environment.pdf_sky(dir));
     }
-    // Emission a ray finds: on a hit with material `mat` from the front (or not), mat.emission when emits() (a
+    // Emission a ray finds: on a hit with material `mat` from the front (or not), emitted_at() when emits() (a
     // one-sided emitter is black behind); on leaving the scene in direction dir, emitted_escape(dir), nothing when
     // environment_black().
     static bool emits(const Material& mat, bool front) {

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -1053,6 +1054,117 @@ TEST(GltfVertexColors, UniformColor0EqualsTheBaseColorFactorBitForBit) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
             for (int k = 0; k < 3; ++k) ASSERT_EQ(a.pixel(x, y).sum[k], b.pixel(x, y).sum[k]) << x << "," << y;
+}
+
+// ------------------------------------------------------------------------------------------ emissive texture
+
+// A w x 1 32-bit TGA (BGRA): Texture::decode tells formats by their bytes, so a glTF image may be one.
+std::string tga_row(const std::vector<std::array<uint8_t, 4>>& rgba) {
+    std::string t(18, '\0');
+    t[2] = 2;                              // uncompressed true colour
+    t[12] = char(rgba.size()), t[14] = 1;  // width, height
+    t[16] = 32, t[17] = 0x28;              // 32 bits, 8 alpha bits, top-left origin
+    for (const auto& p : rgba) t += std::string{char(p[2]), char(p[1]), char(p[0]), char(p[3])};
+    return t;
+}
+
+// glTF's emissiveTexture: a lamp quad (x in [-1, 1], y in [-0.5, 0.5], z = 0, facing +z; emissiveFactor 1, black
+// base) under a 2 x 1 texture, white then black along u = (x + 1) / 2, clamped at the edges (bilinear: white for
+// u < 1/4, black for u > 3/4), and a grey floor at y = -1 in front of it. The camera sees emission 1 over the white
+// texel and 0 over the black one (every sample: the lamp reflects nothing); at a floor point, NEE alone and NEE+MIS
+// (power and tree selection) agree with BSDF sampling alone within a Sidak-corrected z bound from the sample variance.
+// Before the fix the lamp shone 1 everywhere, seen and light-sampled.
+TEST(LightSamplingEmissiveTexture, SeenAndLightSampledEmissionFollowTheTexture) {
+    Gltf g;
+    g.j["extensionsUsed"] = {"KHR_materials_specular"};
+    g.j["images"] = {
+        {{"bufferView", g.view(tga_row({{255, 255, 255, 255}, {0, 0, 0, 255}}))}, {"mimeType", "image/png"}}};
+    g.j["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33071}}};
+    g.j["textures"] = {{{"source", 0}, {"sampler", 0}}};
+    const json lambert = {{"KHR_materials_specular", {{"specularFactor", 0.0}}}};
+    g.j["materials"] = {{{"name", "lamp"},
+                         {"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0.0}}},
+                         {"extensions", lambert},
+                         {"emissiveFactor", {1, 1, 1}},
+                         {"emissiveTexture", {{"index", 0}}}},
+                        {{"name", "floor"},
+                         {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 0.0}}},
+                         {"extensions", lambert}}};
+    const int idx = g.accessor(g.view(bytes_of<uint16_t>({0, 1, 2, 0, 2, 3})), kUShort, 6, "SCALAR");
+    const int lamp_pos = g.floats({-1, -0.5, 0, 1, -0.5, 0, 1, 0.5, 0, -1, 0.5, 0}, "VEC3", 3);
+    const int lamp_uv = g.floats({0, 1, 1, 1, 1, 0, 0, 0}, "VEC2", 2);
+    const int floor_pos = g.floats({-2, -1, 3, 2, -1, 3, 2, -1, 0, -2, -1, 0}, "VEC3", 3);
+    g.scene({g.node({{"mesh", g.mesh({{"POSITION", lamp_pos}, {"TEXCOORD_0", lamp_uv}}, idx, -1, 0)}}),
+             g.node({{"mesh", g.mesh({{"POSITION", floor_pos}}, idx, -1, 1)}})});
+    auto scene = std::make_shared<Scene>(load(g.text(), "emissive.gltf"));
+    for (const std::string& w : scene->warnings) ADD_FAILURE() << w;
+    ASSERT_EQ(scene->materials.size(), 2u);
+    ASSERT_NE(scene->materials[0].emissive_texture, kNoIndex);
+    ASSERT_EQ(scene->triangle_count(), 4u);
+    test::Tracer tracer(scene);
+
+    // Seen: a 32 x 32 view of x, y in [-0.8, 0.8] (vfov 2 atan(0.8 / 3)); columns 0-4 lie over u < 0.225, columns
+    // 27-31 over u > 0.77, rows 10-21 within |y| < 0.3.
+    CameraDesc cam;
+    cam.eye = vec3(0.f, 0.f, 3.f);
+    cam.target = vec3(0.f);
+    cam.vfov_deg = float(glm::degrees(2.0 * std::atan(0.8 / 3.0)));
+    RenderSettings rs;
+    rs.sampler = SamplerKind::Independent;
+    rs.seed = 3;
+    int white = 0, black = 0, wrong = 0;
+    std::string first_wrong;
+    tracer.for_each_sample(cam, rs, 32, 32, 4, [&](int x, int y, uint32_t, vec3 v) {
+        if (y < 10 || y > 21 || (x > 4 && x < 27)) return;
+        const vec3 expected(x <= 4 ? 1.f : 0.f);
+        ++(x <= 4 ? white : black);
+        if (glm::any(glm::greaterThan(glm::abs(v - expected), vec3(1e-6f)))) {
+            if (!wrong++)
+                first_wrong = std::to_string(x) + "," + std::to_string(y) + ": " + std::to_string(v.x) + " expected " +
+                              std::to_string(expected.x);
+        }
+    });
+    EXPECT_EQ(wrong, 0) << "first: pixel " << first_wrong;
+    EXPECT_EQ(white, 5 * 12 * 4);
+    EXPECT_EQ(black, 5 * 12 * 4);
+
+    // Light-sampled: the floor point (-0.3, -1, 1), seen through one pixel centre from above.
+    CameraDesc cell;
+    cell.eye = vec3(-0.3f, 0.5f, 2.f);
+    cell.target = vec3(-0.3f, -1.f, 1.f);
+    cell.vfov_deg = 1.f;
+    struct Estimator {
+        const char* name;
+        bool nee, mis;
+        LightSamplerKind light_sampler = LightSamplerKind::Power;
+    };
+    const Estimator estimators[] = {{"bsdf", false, false},
+                                    {"nee", true, false},
+                                    {"nee+mis", true, true},
+                                    {"nee+mis/tree", true, true, LightSamplerKind::Tree}};
+    constexpr int kEstimators = int(std::size(estimators));
+    double mean[kEstimators], se[kEstimators];
+    for (int e = 0; e < kEstimators; ++e) {
+        RenderSettings s;
+        s.sampler = SamplerKind::Independent;
+        s.light_sampling = estimators[e].nee;
+        s.mis = estimators[e].mis;
+        s.light_sampler = estimators[e].light_sampler;
+        tracer.set_light_sampler(estimators[e].light_sampler);  // as the Renderer applies it
+        s.seed = 40 + uint32_t(e);
+        test::Moments m;
+        tracer.for_each_sample(
+            cell, s, 1, 1, 40000, [&](int, int, uint32_t, vec3 v) { m.add(double(v.y)); }, /*pixel_centre=*/true);
+        mean[e] = m.mean;
+        se[e] = m.stderr_of_mean();
+    }
+    ASSERT_GT(mean[0], 0.0);
+    const double k = test::sidak_k(double(kEstimators - 1));
+    for (int e = 1; e < kEstimators; ++e) {
+        const double z = (mean[e] - mean[0]) / std::hypot(se[e], se[0]);
+        EXPECT_LE(std::fabs(z), k) << estimators[e].name << " " << mean[e] << " +- " << se[e] << " vs BSDF-only "
+                                   << mean[0] << " +- " << se[0];
+    }
 }
 
 }  // namespace
