@@ -54,7 +54,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (!pv::is_finite(scene.camera.eye) || !pv::is_finite(scene.camera.target)) std::abort();
     try {
         const pv::Accel accel(scene);
-        const pv::LightSet lights(scene, scene.materials);
+        pv::LightSet lights(scene, scene.materials);
         pv::vec3 lo, hi;
         scene.bounds(lo, hi);
         const pv::vec3 centre = 0.5f * (lo + hi);
@@ -66,8 +66,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             pv::Hit hit;
             if (accel.intersect(r, hit) && hit.prim >= scene.triangles.size()) std::abort();
             accel.occluded(r);
-            pv::LightSample ls;
-            if (lights.sample(centre, 0.5f, pv::vec2(0.3f, 0.6f), ls) && !(ls.pdf > 0.f)) std::abort();
+            // Both light samplers: by power, and the light tree (built on first use).
+            for (const auto kind : {pv::LightSamplerKind::Power, pv::LightSamplerKind::Tree}) {
+                lights.set_sampler(kind);
+                pv::LightSample ls;
+                if (lights.sample(centre, -d, 0.5f, pv::vec2(0.3f, 0.6f), ls) && !(ls.pdf > 0.f)) std::abort();
+            }
         }
     } catch (const pv::Error&) {
     }

@@ -48,7 +48,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             if (accel.intersect(r, hit) && hit.prim >= scene.triangles.size()) std::abort();
             accel.occluded(r);
             pv::LightSample ls;
-            if (lights.sample(centre, 0.5f, pv::vec2(0.3f, 0.6f), ls) && !(ls.pdf > 0.f)) std::abort();
+            if (lights.sample(centre, -d, 0.5f, pv::vec2(0.3f, 0.6f), ls) && !(ls.pdf > 0.f)) std::abort();
         }
     } catch (const pv::Error&) {
     }
