@@ -128,6 +128,22 @@ uint32_t Loader::texture_of(const tinygltf::TextureInfo& info, const std::string
 void Loader::convert_materials() {
     Scene& s = *scene;
     base_uv.assign(model.materials.size(), UvTransform{});
+    // A texture of linear data (metallic-roughness, normals) as its texels are stored in the file: the decoder's sRGB
+    // decoding undone, in a copy of its own with the same wrap modes; one copy per source texture, shared by the
+    // materials that use it.
+    std::map<uint32_t, uint32_t> linear_copies;
+    auto linear_copy = [&](uint32_t src_index) {
+        if (const auto it = linear_copies.find(src_index); it != linear_copies.end()) return it->second;
+        const Texture& src = s.textures[src_index];
+        std::vector<vec4> texels = src.texels();
+        for (vec4& t : texels) t = vec4(linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z), t.w);
+        const TextureWrap ws = src.wrap_s(), wt = src.wrap_t();  // src moves when textures grows
+        s.textures.emplace_back(src.width(), src.height(), std::move(texels));
+        s.textures.back().set_wrap(ws, wt);
+        const uint32_t id = uint32_t(s.textures.size() - 1);
+        linear_copies.emplace(src_index, id);
+        return id;
+    };
     for (size_t mi = 0; mi < model.materials.size(); ++mi) {
         const tinygltf::Material& gm = model.materials[mi];
         const std::string at = ptr({"materials", str(mi)});
@@ -195,7 +211,7 @@ void Loader::convert_materials() {
             m.alpha_texture = uint32_t(s.textures.size() - 1);
         }
         m.bsdf = gltf_bsdf(g);
-        // metallicRoughnessTexture (linear data: the decoder's sRGB decoding is undone in a copy of its own), read
+        // metallicRoughnessTexture (linear data: linear_copy), read
         // at the mesh's uvs, which carry the base colour's transform: used where its own transform is the same.
         UvTransform muv;
         const std::string mr_at = at + "/pbrMetallicRoughness/metallicRoughnessTexture";
@@ -206,13 +222,7 @@ void Loader::convert_materials() {
                                      ": a texture transform or texCoord other than the base colour's is not "
                                      "supported; the metallic and roughness factors are used");
             } else {
-                const Texture& src = s.textures[mr_tex];
-                std::vector<vec4> texels = src.texels();
-                for (vec4& t : texels) t = vec4(linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z), t.w);
-                const TextureWrap ws = src.wrap_s(), wt = src.wrap_t();  // src moves when textures grows
-                s.textures.emplace_back(src.width(), src.height(), std::move(texels));
-                s.textures.back().set_wrap(ws, wt);
-                m.metallic_roughness_texture = uint32_t(s.textures.size() - 1);
+                m.metallic_roughness_texture = linear_copy(mr_tex);
                 fit_bsdf_to_textures(m);  // the texel may lower metallic: every lobe of [0, factor]
             }
         }
@@ -232,13 +242,7 @@ void Loader::convert_materials() {
                                         ": a texture transform or texCoord other than the base colour's is not "
                                         "supported; the normal map is not used");
                 } else {
-                    const Texture& src = s.textures[n_tex];
-                    std::vector<vec4> texels = src.texels();
-                    for (vec4& t : texels) t = vec4(linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z), t.w);
-                    const TextureWrap ws = src.wrap_s(), wt = src.wrap_t();  // src moves when textures grows
-                    s.textures.emplace_back(src.width(), src.height(), std::move(texels));
-                    s.textures.back().set_wrap(ws, wt);
-                    m.normal_texture = uint32_t(s.textures.size() - 1);
+                    m.normal_texture = linear_copy(n_tex);
                     const float sc = finite_or(gm.normalTexture.scale, 1.f);
                     m.normal_scale = sc;
                 }
