@@ -38,9 +38,19 @@ TraceableScene::~TraceableScene() = default;
 
 void TraceableScene::set_materials(const std::vector<Material>& materials) {
     if (materials.size() != m_scene->materials.size()) return;
+    // The light set (and its tree: up to a second for 10^5 emitters) depends only on what emits: an edit of
+    // colours, roughness or type keeps it.
+    const auto same_light = [](const Material& a, const Material& b) {
+        return a.emission == b.emission && a.two_sided_emission == b.two_sided_emission &&
+               a.emissive_texture == b.emissive_texture && a.emissive_uv == b.emissive_uv &&
+               a.alpha_texture == b.alpha_texture;
+    };
+    const bool lights_kept = std::equal(materials.begin(), materials.end(), m_materials.begin(), same_light);
     m_materials = materials;
-    m_lights = LightSet(*m_scene, m_materials);
-    m_lights.set_sampler(m_light_sampler);
+    if (!lights_kept) {
+        m_lights = LightSet(*m_scene, m_materials);
+        m_lights.set_sampler(m_light_sampler);
+    }
     m_accel->set_materials(m_materials);  // alpha cut-outs as edited
     update_selection();
 }
