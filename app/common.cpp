@@ -97,34 +97,34 @@ CLI::Validator finite_range(double lo, double hi) {
         desc);
 }
 
-void check_film_memory(int width, int height) {
-    // Per pixel: the film (sums in double) and the float image written at the end.
-    const double per_pixel = double(sizeof(FilmPixel) + 3 * sizeof(float));
+namespace {
+// When per_pixel x width x height bytes exceed the memory available: "about X GB<purpose> (Y bytes a pixel) but Z GB
+// of memory are available"; else empty.
+std::string memory_shortfall(double per_pixel, int width, int height, const char* purpose = "") {
     const double need = per_pixel * double(width) * double(height);
     const uint64_t avail = available_memory();
-    if (avail && need > double(avail)) {
-        char msg[256];
-        std::snprintf(msg, sizeof msg,
-                      "--width %d --height %d: the film needs about %.1f GB (%.0f bytes a pixel) but %.1f GB of "
-                      "memory are available; render a smaller image",
-                      width, height, need * 1e-9, per_pixel, double(avail) * 1e-9);
-        throw Error(msg);
-    }
+    if (!avail || need <= double(avail)) return {};
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "about %.1f GB%s (%.0f bytes a pixel) but %.1f GB of memory are available",
+                  need * 1e-9, purpose, per_pixel, double(avail) * 1e-9);
+    return msg;
+}
+}  // namespace
+
+void check_film_memory(int width, int height) {
+    // Per pixel: the film (sums in double) and the float image written at the end.
+    const std::string s = memory_shortfall(double(sizeof(FilmPixel) + 3 * sizeof(float)), width, height);
+    if (!s.empty())
+        throw Error("--width " + std::to_string(width) + " --height " + std::to_string(height) + ": the film needs " +
+                    s + "; render a smaller image");
 }
 
 void check_merge_memory(const std::string& part, int width, int height) {
     // The output film, the float mean and, for a PNG, its bytes; a block of a part is small beside them.
-    const double per_pixel = double(sizeof(FilmPixel) + 3 * sizeof(float) + 3);
-    const double need = per_pixel * double(width) * double(height);
-    const uint64_t avail = available_memory();
-    if (avail && need > double(avail)) {
-        char msg[256];
-        std::snprintf(msg, sizeof msg,
-                      ": %dx%d parts need about %.1f GB to merge (%.0f bytes a pixel) but %.1f GB of memory are "
-                      "available",
-                      width, height, need * 1e-9, per_pixel, double(avail) * 1e-9);
-        throw Error(part + msg);
-    }
+    const std::string s =
+        memory_shortfall(double(sizeof(FilmPixel) + 3 * sizeof(float) + 3), width, height, " to merge");
+    if (!s.empty())
+        throw Error(part + ": " + std::to_string(width) + "x" + std::to_string(height) + " parts need " + s);
 }
 
 void add_common_options(CLI::App& cmd, CommonOptions& o) {
