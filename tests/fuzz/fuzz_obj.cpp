@@ -6,10 +6,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/accel.h"
 #include "core/error.h"
-#include "core/lights.h"
 #include "core/obj_loader.h"
+#include "tests/fuzz/fuzz_scene_checks.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size > (1u << 16)) return 0;  // keep inputs small: the interesting bugs are in the parsing
@@ -20,37 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     } catch (const pv::Error&) {
         return 0;
     }
-    // What validation promises (core/obj_loader.h): indices in range, finite non-degenerate triangles.
-    for (size_t i = 0; i < scene.triangles.size(); ++i) {
-        const pv::uvec3 t = scene.triangles[i];
-        if (t.x >= scene.positions.size() || t.y >= scene.positions.size() || t.z >= scene.positions.size())
-            std::abort();
-        if (scene.material_ids[i] >= scene.materials.size()) std::abort();
-        for (int k = 0; k < 3; ++k)
-            if (!pv::is_finite(scene.positions[t[k]])) std::abort();
-        if (!scene.normal_indices.empty())
-            for (int k = 0; k < 3; ++k)
-                if (scene.normal_indices[i][k] != pv::kNoIndex && scene.normal_indices[i][k] >= scene.normals.size())
-                    std::abort();
-    }
-    try {
-        const pv::Accel accel(scene);
-        const pv::LightSet lights(scene, scene.materials);
-        pv::vec3 lo, hi;
-        scene.bounds(lo, hi);
-        const pv::vec3 centre = 0.5f * (lo + hi);
-        const pv::vec3 dirs[] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {-0.6f, 0.48f, 0.64f}};
-        for (const pv::vec3& d : dirs) {
-            pv::Ray r;
-            r.o = centre - d * (1.f + pv::max_component(hi - lo));
-            r.d = d;
-            pv::Hit hit;
-            if (accel.intersect(r, hit) && hit.prim >= scene.triangles.size()) std::abort();
-            accel.occluded(r);
-            pv::LightSample ls;
-            if (lights.sample(centre, -d, 0.5f, pv::vec2(0.3f, 0.6f), ls) && !(ls.pdf > 0.f)) std::abort();
-        }
-    } catch (const pv::Error&) {
-    }
+    pv_fuzz::check_loaded_scene(scene);
+    pv_fuzz::trace_and_sample(scene);
     return 0;
 }
