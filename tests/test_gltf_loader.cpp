@@ -22,6 +22,7 @@
 #include "core/normal_map.h"
 #include "core/obj_loader.h"
 #include "core/scene_file.h"
+#include "tests/support/child.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
 
@@ -711,44 +712,8 @@ TEST(GltfLoader, MetallicRoughnessTextureIsLinearAndKeepsTheLobesItsTexelsNeed) 
 
 // ------------------------------------------------------------------------------------------------- bad files
 
-struct ChildResult {
-    bool finished = false;
-    int exit_code = -1;
-    long max_rss_kb = 0;
-};
-
-// Runs `fn` in a forked child (its return value is the exit code; a crash is a signal), killed after 30 s.
-ChildResult run_bounded(const std::function<int()>& fn) {
-    std::fflush(nullptr);
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        int code = 99;
-        try {
-            code = fn();
-        } catch (...) {
-            code = 98;
-        }
-        std::fflush(nullptr);
-        ::_exit(code);
-    }
-    ChildResult r;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    int status = 0;
-    struct rusage ru {};
-    for (;;) {
-        if (::wait4(pid, &status, WNOHANG, &ru) == pid) break;
-        if (std::chrono::steady_clock::now() > deadline) {
-            ::kill(pid, SIGKILL);
-            ::wait4(pid, &status, 0, &ru);
-            return r;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    r.finished = true;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.max_rss_kb = ru.ru_maxrss;
-    return r;
-}
+using test::ChildResult;
+using test::run_bounded;
 
 struct TempDir {
     fs::path path;

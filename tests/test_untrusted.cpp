@@ -25,6 +25,7 @@
 #include "core/image_io.h"
 #include "core/scene_file.h"
 #include "core/texture.h"
+#include "tests/support/child.h"
 
 namespace pv {
 namespace {
@@ -58,49 +59,9 @@ std::string slurp(const std::string& path) {
     return ss.str();
 }
 
-struct ChildResult {
-    bool finished = false;  // false: killed at the time limit (the old code's hang)
-    int exit_code = -1;
-    long max_rss_kb = 0;
-};
-
-// Deadline of every bounded run: a hang (the old code's fault), never slowness. Long enough for a sanitizer build
-// on a loaded machine (issue 26): no test asserts that work ends within a shorter interval.
-constexpr int kDeadlineSeconds = 300;
-
-// Runs `fn` in a forked child (its return value is the exit code), killed after `seconds`.
-ChildResult run_bounded(const std::function<int()>& fn, double seconds = kDeadlineSeconds) {
-    std::fflush(nullptr);
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-        int code = 99;
-        try {
-            code = fn();
-        } catch (...) {
-            code = 98;
-        }
-        std::fflush(nullptr);
-        ::_exit(code);
-    }
-    ChildResult r;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    int status = 0;
-    struct rusage ru {};
-    for (;;) {
-        const pid_t done = ::wait4(pid, &status, WNOHANG, &ru);
-        if (done == pid) break;
-        if (std::chrono::steady_clock::now() > deadline) {
-            ::kill(pid, SIGKILL);
-            ::wait4(pid, &status, 0, &ru);
-            return r;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    r.finished = true;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.max_rss_kb = ru.ru_maxrss;
-    return r;
-}
+using test::ChildResult;
+using test::kDeadlineSeconds;
+using test::run_bounded;
 
 bool contains(const std::string& s, const std::string& needle) { return s.find(needle) != std::string::npos; }
 
