@@ -14,14 +14,17 @@ ErrorMetrics compare_images(const Image& image, const Image& reference, double e
         throw Error("compare_images: image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                     " but the reference is " + std::to_string(reference.width) + "x" +
                     std::to_string(reference.height));
-    const size_t n = image.rgb.size();
+    return compare_values(image.rgb.data(), reference.rgb.data(), image.rgb.size(), eps, trim);
+}
+
+ErrorMetrics compare_values(const float* image, const float* reference, size_t n, double eps, double trim) {
     ErrorMetrics m;
     if (n == 0) return m;
     double se = 0.0, rse = 0.0, ape = 0.0;
     std::vector<double> rel;
     if (trim > 0.0) rel.reserve(n);
     for (size_t i = 0; i < n; ++i) {
-        const double x = image.rgb[i], r = reference.rgb[i], d = x - r;
+        const double x = image[i], r = reference[i], d = x - r;
         const double q = d * d / (r * r + eps);
         se += d * d;
         rse += q;

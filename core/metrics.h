@@ -22,6 +22,9 @@ struct ErrorMetrics {
 // Error of `image` against `reference`. `trim` drops that fraction of the largest per-value relative squared
 // errors from relMSE only (e.g. 0.001 for SimpleImageIO's outlier-rejected variant); 0 keeps everything.
 ErrorMetrics compare_images(const Image& image, const Image& reference, double eps = kMetricEps, double trim = 0.0);
+// The same over n values of two buffers (an image's channels without copying them into an Image).
+ErrorMetrics compare_values(const float* image, const float* reference, size_t n, double eps = kMetricEps,
+                            double trim = 0.0);
 
 // The relMSE that the noise of a Monte Carlo image is expected to have: mean of var_of_mean / (mean^2 + eps),
 // from a film's per-pixel variance of the mean. Valid for independent samples only.

@@ -151,15 +151,8 @@ void Compare::update(const Snapshot& s) {
     m_rel_mse_denoised = -1.0;
     const size_t n = size_t(std::max(s.width, 0)) * size_t(std::max(s.height, 0)) * 3;
     if (!has_b() || s.width != m_b.width || s.height != m_b.height || n == 0 || s.rgb.size() != n) return;
-    Image a;
-    a.width = s.width;
-    a.height = s.height;
-    a.rgb = s.rgb;
-    m_rel_mse = compare_images(a, m_b).rel_mse;
-    if (s.denoised.size() == n) {
-        a.rgb = s.denoised;
-        m_rel_mse_denoised = compare_images(a, m_b).rel_mse;
-    }
+    m_rel_mse = compare_values(s.rgb.data(), m_b.rgb.data(), n).rel_mse;
+    if (s.denoised.size() == n) m_rel_mse_denoised = compare_values(s.denoised.data(), m_b.rgb.data(), n).rel_mse;
     if (s.generation != m_history_generation) {
         m_history.clear();
         m_history_generation = s.generation;
