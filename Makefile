@@ -68,7 +68,7 @@ test-slurm: build
 SAN_FLAGS := -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPATHVIEW_BUILD_MICROBENCH=OFF -DPATHVIEW_WERROR=ON
 
 # The suite under ASan+UBSan (suites whose name ends in Slow skipped), then the renderer's threading suites
-# (names starting with Threading or Progressive) under TSan. TBB and Embree are not built with TSan: core/tsan.h
+# (names starting with Threading or Progressive) under TSan. TBB and Embree are not built with TSan: core/base/tsan.h
 # annotates pathview's fork/join edges and tests/tsan.supp suppresses reports inside those libraries only.
 test-sanitize: test-asan test-tsan
 

@@ -1,12 +1,12 @@
 // app/bench.h: the data of a `pathview bench` run (configurations, measured points) and its writers (table, CSV,
-// SVG). Times are seconds of rendering (whole passes), errors are against the run's reference (core/metrics.h).
+// SVG). Times are seconds of rendering (whole passes), errors are against the run's reference (core/image/metrics.h).
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "core/integrator.h"
-#include "core/metrics.h"
+#include "core/image/metrics.h"
+#include "core/render/integrator.h"
 
 namespace pv::app {
 

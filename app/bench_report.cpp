@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "app/bench.h"
-#include "core/error.h"
-#include "core/file_io.h"
+#include "core/base/error.h"
+#include "core/base/file_io.h"
 
 namespace pv::app {
 namespace {
@@ -27,7 +27,7 @@ std::vector<std::string> split(const std::string& s, char sep) {
     return out;
 }
 
-// Writes `text` whole (core/file_io.h: a temporary file, checked writes, fsync, rename).
+// Writes `text` whole (core/base/file_io.h: a temporary file, checked writes, fsync, rename).
 void write_file(const std::string& path, const std::string& text) {
     write_file_atomically(path, [&](int fd) { write_all(fd, text.data(), text.size(), path); });
 }

@@ -19,12 +19,12 @@
 #include "app/bench/series.h"
 #include "app/commands.h"
 #include "app/progress.h"
-#include "core/error.h"
-#include "core/file_io.h"
-#include "core/light_tree.h"
-#include "core/renderer.h"
-#include "core/rng.h"
-#include "core/scene_file.h"
+#include "core/base/error.h"
+#include "core/base/file_io.h"
+#include "core/frame/renderer.h"
+#include "core/load/scene_file.h"
+#include "core/render/light_tree.h"
+#include "core/sampling/rng.h"
 
 namespace pv::app {
 namespace {
@@ -34,9 +34,9 @@ std::shared_ptr<Scene> load_bench_scene(const CommonOptions& o) {
     return std::make_shared<Scene>(load_scene(scene_path(o)));
 }
 
-// --light-tree: builds the light tree (core/light_tree.h) over 10^2..10^5 random emissive triangles (a cube of side
-// 10, sides 0.01..0.1, random orientations, powers over four decades) and prints the build's time (the best of a few
-// builds, CPU of this thread) and memory. Figures, no assertions.
+// --light-tree: builds the light tree (core/render/light_tree.h) over 10^2..10^5 random emissive triangles (a cube of
+// side 10, sides 0.01..0.1, random orientations, powers over four decades) and prints the build's time (the best of a
+// few builds, CPU of this thread) and memory. Figures, no assertions.
 void light_tree_scaling() {
     std::printf("## pathview bench --light-tree: build time and memory of the light tree\n\n");
     std::printf("| emissive triangles | nodes | depth | build ms (best of %d) | memory MiB | bytes per emitter |\n", 3);

@@ -1,4 +1,4 @@
-// app/cmd_merge.cpp: `pathview merge OUT PART...`: adds partial renders of one image (core/partial.h) and writes
+// app/cmd_merge.cpp: `pathview merge OUT PART...`: adds partial renders of one image (core/frame/partial.h) and writes
 // the result: an .exr is itself a partial render (mergeable and resumable; its R, G, B are the image), a .png the
 // tone-mapped mean. Every part is read and checked before anything is written.
 #include <cmath>
@@ -8,10 +8,10 @@
 #include <memory>
 
 #include "app/commands.h"
-#include "core/error.h"
-#include "core/file_io.h"
-#include "core/image_io.h"
-#include "core/partial.h"
+#include "core/base/error.h"
+#include "core/base/file_io.h"
+#include "core/frame/partial.h"
+#include "core/image/image_io.h"
 
 namespace pv::app {
 namespace {

@@ -13,16 +13,16 @@
 
 #include "app/commands.h"
 #include "app/progress.h"
-#include "core/aov.h"
-#include "core/denoise_atrous.h"
-#include "core/denoise_nfor.h"
-#include "core/error.h"
-#include "core/file_io.h"
-#include "core/image_io.h"
-#include "core/partial.h"
-#include "core/renderer.h"
-#include "core/scene_file.h"
-#include "core/sky_guide.h"
+#include "core/base/error.h"
+#include "core/base/file_io.h"
+#include "core/frame/aov.h"
+#include "core/frame/denoise_atrous.h"
+#include "core/frame/denoise_nfor.h"
+#include "core/frame/partial.h"
+#include "core/frame/renderer.h"
+#include "core/image/image_io.h"
+#include "core/load/scene_file.h"
+#include "core/render/sky_guide.h"
 
 namespace pv::app {
 namespace {
@@ -34,14 +34,14 @@ struct RenderOptions {
     std::vector<std::string> outs;  // every -o: the same render written to each
     float exposure = 0.f;
     bool quiet = false;
-    std::string samples;  // --samples START:COUNT: a partial render (core/partial.h)
+    std::string samples;  // --samples START:COUNT: a partial render (core/frame/partial.h)
     std::string resume;   // --resume PART.exr: continue a partial render
     std::string shard;    // --shard I/N: shard I of N of --spp's sample indices
     const CLI::App* cmd = nullptr;
-    bool aovs = false;              // feature and film-statistics layers in the EXR (core/aov.h)
-    bool denoise = false;           // NFOR (core/denoise_nfor.h); the raw mean is kept as the noisy.* layer
-    std::string denoiser = "nfor";  // or "atrous", the viewer's interactive filter (core/denoise_atrous.h)
-    std::string region;             // --region x0,y0,x1,y1: render only these pixels (core/renderer.h)
+    bool aovs = false;              // feature and film-statistics layers in the EXR (core/frame/aov.h)
+    bool denoise = false;           // NFOR (core/frame/denoise_nfor.h); the raw mean is kept as the noisy.* layer
+    std::string denoiser = "nfor";  // or "atrous", the viewer's interactive filter (core/frame/denoise_atrous.h)
+    std::string region;             // --region x0,y0,x1,y1: render only these pixels (core/frame/renderer.h)
 };
 
 // Options that --resume takes from the part instead (they define the image).
@@ -176,7 +176,7 @@ void run(RenderOptions& o) {
     }
     // A partial render samples every pixel at each of its indices, so that its parts merge into what one `render
     // --adaptive off` gives, bit for bit. Adaptive sampling cannot be split so: each pixel's allocation comes from a
-    // pilot over the whole render (core/adaptive.h), so --adaptive on is refused with a partial render.
+    // pilot over the whole render (core/frame/adaptive.h), so --adaptive on is refused with a partial render.
     if (samples && o.common.adaptive.allocate) {
         if (o.cmd->get_option("--adaptive")->count())
             throw Error(std::string(!o.shard.empty()    ? "--shard"
@@ -422,7 +422,7 @@ void add_render_command(CLI::App& app) {
     cmd->add_flag("--aovs", o->aovs,
                   "EXR outputs also hold first-hit albedo (Albedo.*), shading normal (Ns.*), "
                   "depth (Z), SampleCount, Variance.* (of the mean) and the even/odd half means (even.*, odd.*); "
-                  "see core/aov.h");
+                  "see core/frame/aov.h");
     cmd->add_flag("--denoise", o->denoise,
                   "Denoise (NFOR regression on first-hit features, cross-validated between "
                   "the even/odd halves): the image written is denoised, EXRs keep the raw mean as noisy.R/G/B");

@@ -1,8 +1,8 @@
 // app/cmd_view.cpp: `pathview view` (the default subcommand): the interactive viewer (ui/viewer.h).
 #include "app/commands.h"
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/scene_file.h"
+#include "core/base/error.h"
+#include "core/image/image_io.h"
+#include "core/load/scene_file.h"
 
 #ifdef PATHVIEW_HAS_UI
 #include "ui/viewer.h"

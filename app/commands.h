@@ -5,10 +5,10 @@
 #include <optional>
 #include <string>
 
-#include "core/adaptive.h"
-#include "core/camera.h"
-#include "core/image_io.h"
-#include "core/integrator.h"
+#include "core/frame/adaptive.h"
+#include "core/image/image_io.h"
+#include "core/render/integrator.h"
+#include "core/scene/camera.h"
 
 namespace pv::app {
 

@@ -6,11 +6,11 @@
 #include <cstdio>
 
 #include "app/commands.h"
-#include "core/error.h"
-#include "core/film.h"
-#include "core/image_io.h"
-#include "core/parallel.h"
-#include "core/scene_file.h"
+#include "core/base/error.h"
+#include "core/base/parallel.h"
+#include "core/image/film.h"
+#include "core/image/image_io.h"
+#include "core/load/scene_file.h"
 
 namespace pv::app {
 namespace {

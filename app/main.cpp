@@ -5,8 +5,8 @@
 #include <cstring>
 
 #include "app/commands.h"
-#include "core/error.h"
-#include "core/version.h"
+#include "core/base/error.h"
+#include "core/base/version.h"
 
 int main(int argc, char** argv) {
     CLI::App app{

@@ -7,8 +7,8 @@
 
 #include <cmath>
 
-#include "core/rng.h"
-#include "core/texture.h"
+#include "core/sampling/rng.h"
+#include "core/scene/texture.h"
 
 namespace {
 

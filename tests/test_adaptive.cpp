@@ -1,12 +1,12 @@
 // tests/test_adaptive.cpp: adaptive sampling (the noise threshold, and allocation: AdaptiveSettings::allocate) and
-// the stratified sample-count schedule (core/adaptive.h, issue 13).
+// the stratified sample-count schedule (core/frame/adaptive.h, issue 13).
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <map>
 
-#include "core/adaptive.h"
-#include "core/renderer.h"
+#include "core/frame/adaptive.h"
+#include "core/frame/renderer.h"
 #include "support/scenes.h"
 #include "support/stats.h"
 

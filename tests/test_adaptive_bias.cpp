@@ -8,8 +8,8 @@
 
 #include <cmath>
 
-#include "core/adaptive.h"
-#include "core/renderer.h"
+#include "core/frame/adaptive.h"
+#include "core/frame/renderer.h"
 #include "support/scenes.h"
 #include "support/stats.h"
 

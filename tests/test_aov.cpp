@@ -1,4 +1,4 @@
-// tests/test_aov.cpp: AOVs (core/aov.h). First-hit features against geometry known in closed form (the Cornell
+// tests/test_aov.cpp: AOVs (core/frame/aov.h). First-hit features against geometry known in closed form (the Cornell
 // box's back wall; a mirror and a glass interface in front of coloured walls, whose Fresnel split is checked
 // against a binomial bound), the film's statistics layers against hand-computed sums, and the multi-layer EXR
 // round trip with its error for a mis-sized layer.
@@ -7,8 +7,8 @@
 #include <atomic>
 #include <filesystem>
 
-#include "core/aov.h"
-#include "core/error.h"
+#include "core/base/error.h"
+#include "core/frame/aov.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

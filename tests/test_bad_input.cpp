@@ -9,11 +9,11 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/obj_loader.h"
-#include "core/renderer.h"
-#include "core/scene_file.h"
+#include "core/base/error.h"
+#include "core/frame/renderer.h"
+#include "core/image/image_io.h"
+#include "core/load/obj_loader.h"
+#include "core/load/scene_file.h"
 #include "tests/support/cli.h"
 #include "tests/support/scenes.h"
 

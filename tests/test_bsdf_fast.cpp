@@ -1,15 +1,15 @@
-// tests/test_bsdf_fast.cpp: the fast paths of core/warp.h and core/bsdf.h against straightforward references in
-// double (the formulas they replaced): the polynomial sin/cos (stated error bounds), the concentric disk map,
-// the inline Lambertian dispatch (two-sided rules, edge cases) and the one-division GGX eval/pdf (rel 1e-5).
+// tests/test_bsdf_fast.cpp: the fast paths of core/sampling/warp.h and core/scene/bsdf.h against straightforward
+// references in double (the formulas they replaced): the polynomial sin/cos (stated error bounds), the concentric disk
+// map, the inline Lambertian dispatch (two-sided rules, edge cases) and the one-division GGX eval/pdf (rel 1e-5).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include "core/bsdf.h"
-#include "core/rng.h"
-#include "core/warp.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/warp.h"
+#include "core/scene/bsdf.h"
 
 namespace pv {
 namespace {

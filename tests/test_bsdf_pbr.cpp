@@ -1,4 +1,4 @@
-// tests/test_bsdf_pbr.cpp: glTF's metallic-roughness BSDF (core/bsdf_pbr.h, issue 27 item 3):
+// tests/test_bsdf_pbr.cpp: glTF's metallic-roughness BSDF (core/scene/bsdf_pbr.h, issue 27 item 3):
 //  * chi-square of sample() against pdf() over metallic x roughness x IOR x transmission (thin and solid), wo on both
 //    sides, with delta lobes mixed in (their samples are left out: pdf() is the density of the non-delta ones);
 //  * sample() agrees with eval() and pdf(); delta samples carry their discrete probability;
@@ -12,9 +12,9 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/bsdf.h"
-#include "core/material_params.h"
-#include "core/warp.h"
+#include "core/sampling/warp.h"
+#include "core/scene/bsdf.h"
+#include "core/scene/material_params.h"
 #include "tests/support/chi2.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"

@@ -5,7 +5,7 @@
 
 #include <filesystem>
 
-#include "core/scene_file.h"
+#include "core/load/scene_file.h"
 #include "support/scenes.h"
 #include "support/stats.h"
 

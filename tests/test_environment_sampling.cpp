@@ -10,9 +10,9 @@
 #include <numeric>
 #include <string>
 
-#include "core/distribution.h"
-#include "core/environment.h"
-#include "core/rng.h"
+#include "core/sampling/distribution.h"
+#include "core/sampling/rng.h"
+#include "core/scene/environment.h"
 #include "support/stats.h"
 
 namespace pv {

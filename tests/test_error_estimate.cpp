@@ -12,8 +12,8 @@
 
 #include <cstdio>
 
-#include "core/metrics.h"
-#include "core/renderer.h"
+#include "core/frame/renderer.h"
+#include "core/image/metrics.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

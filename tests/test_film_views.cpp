@@ -2,8 +2,8 @@
 // error estimate, so the published figures are the film's, not a second computation.
 #include <gtest/gtest.h>
 
-#include "core/film.h"
-#include "core/rng.h"
+#include "core/image/film.h"
+#include "core/sampling/rng.h"
 
 namespace pv {
 

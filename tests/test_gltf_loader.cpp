@@ -1,4 +1,4 @@
-// tests/test_gltf_loader.cpp: the glTF loader (core/gltf_loader.h) on files the tests write (JSON with base64
+// tests/test_gltf_loader.cpp: the glTF loader (core/load/gltf_loader.h) on files the tests write (JSON with base64
 // buffers, or .glb): transforms (nested, matrix and TRS, mirrored), accessor component types and strides, sparse
 // accessors, strips and fans, cameras; damaged files end in one line naming the file and the JSON path, within
 // little memory; and the Cornell box written as glTF renders the OBJ's image within noise, its .glb and .gltf forms
@@ -16,12 +16,12 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "core/bsdf_pbr.h"
-#include "core/error.h"
-#include "core/gltf_loader.h"
-#include "core/normal_map.h"
-#include "core/obj_loader.h"
-#include "core/scene_file.h"
+#include "core/base/error.h"
+#include "core/load/gltf_loader.h"
+#include "core/load/obj_loader.h"
+#include "core/load/scene_file.h"
+#include "core/render/normal_map.h"
+#include "core/scene/bsdf_pbr.h"
 #include "tests/support/child.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"

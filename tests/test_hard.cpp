@@ -9,11 +9,11 @@
 
 #include <chrono>
 
-#include "core/bsdf.h"
-#include "core/lights.h"
-#include "core/obj_loader.h"
-#include "core/renderer.h"
-#include "core/warp.h"
+#include "core/frame/renderer.h"
+#include "core/load/obj_loader.h"
+#include "core/render/lights.h"
+#include "core/sampling/warp.h"
+#include "core/scene/bsdf.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
 

@@ -1,13 +1,13 @@
-// tests/test_hit_layout.cpp: the packed per-triangle hit records (core/scene.h: TriangleRecord, pack_triangles) hold
-// exactly the Scene's data, and what the path tracer computes from them (surface point, uv, material) is the same,
+// tests/test_hit_layout.cpp: the packed per-triangle hit records (core/scene/scene.h: TriangleRecord, pack_triangles)
+// hold exactly the Scene's data, and what the path tracer computes from them (surface point, uv, material) is the same,
 // bit for bit, as from the Scene's indexed arrays.
 #include <gtest/gtest.h>
 
 #include <cstring>
 
-#include "core/rng.h"
-#include "core/surface.h"
-#include "core/traceable_scene.h"
+#include "core/render/surface.h"
+#include "core/render/traceable_scene.h"
+#include "core/sampling/rng.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

@@ -1,12 +1,12 @@
 // tests/test_hit_shading.cpp: the AOV pass and the sky guide's training walk shade a hit as the path tracer does
-// (core/shading.h): glTF vertex colours (COLOR_0) multiply the denoiser's albedo, a normal map tilts its normal, and
-// both change what the sky guide learns.
+// (core/render/shading.h): glTF vertex colours (COLOR_0) multiply the denoiser's albedo, a normal map tilts its normal,
+// and both change what the sky guide learns.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/aov.h"
-#include "core/sky_guide.h"
+#include "core/frame/aov.h"
+#include "core/render/sky_guide.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

@@ -1,4 +1,4 @@
-// tests/test_huge_pages.cpp: the regions of core/huge_pages.h (alignment, size, the kernel's MADV_HUGEPAGE flag on
+// tests/test_huge_pages.cpp: the regions of core/base/huge_pages.h (alignment, size, the kernel's MADV_HUGEPAGE flag on
 // the mapping), and the data moved into them: a scene's texels (pack_texels) keep their lookups bit for bit and stay
 // valid through copies, moves and the end of the vector they were packed in; the packed hit records of a
 // TraceableScene are pack_triangles' records in a region.
@@ -10,10 +10,10 @@
 #include <sstream>
 #include <string>
 
-#include "core/huge_pages.h"
-#include "core/rng.h"
-#include "core/texture.h"
-#include "core/traceable_scene.h"
+#include "core/base/huge_pages.h"
+#include "core/render/traceable_scene.h"
+#include "core/sampling/rng.h"
+#include "core/scene/texture.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

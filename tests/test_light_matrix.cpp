@@ -15,11 +15,11 @@
 #include <functional>
 #include <sstream>
 
-#include "core/distribution.h"
-#include "core/environment.h"
-#include "core/lights.h"
-#include "core/material_params.h"
-#include "core/rng.h"
+#include "core/render/lights.h"
+#include "core/sampling/distribution.h"
+#include "core/sampling/rng.h"
+#include "core/scene/environment.h"
+#include "core/scene/material_params.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
 

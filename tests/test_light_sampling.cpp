@@ -1,5 +1,5 @@
-// Emitter triangles sampled by solid angle (core/spherical_triangle.h, LightSet): the directions follow the pdf that
-// LightSet::pdf gives a BSDF-found emitter (chi-square per triangle shape, including a sliver, a triangle seen
+// Emitter triangles sampled by solid angle (core/sampling/spherical_triangle.h, LightSet): the directions follow the
+// pdf that LightSet::pdf gives a BSDF-found emitter (chi-square per triangle shape, including a sliver, a triangle seen
 // nearly edge-on and a point almost touching one), the solid angle matches a closed form, and both the solid-angle
 // and the area rule estimate a triangle's irradiance as Lambert's closed form gives it.
 #include <gtest/gtest.h>
@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "core/lights.h"
-#include "core/rng.h"
+#include "core/render/lights.h"
+#include "core/sampling/rng.h"
 #include "tests/support/stats.h"
 
 namespace pv {

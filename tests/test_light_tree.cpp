@@ -1,17 +1,17 @@
-// The light tree (core/light_tree.h): its pick probabilities, recomputed by re-walking the tree along an emitter's
-// bit trail, sum to 1 over the emitters and are the frequencies the pick draws them with (chi-square); through
-// LightSet, a sample's pdf equals the pdf a BSDF-found emitter is given at the same point. The tree's agreement with
-// the closed forms under every estimator is in tests/test_light_matrix.cpp.
+// The light tree (core/render/light_tree.h): its pick probabilities, recomputed by re-walking the tree along an
+// emitter's bit trail, sum to 1 over the emitters and are the frequencies the pick draws them with (chi-square);
+// through LightSet, a sample's pdf equals the pdf a BSDF-found emitter is given at the same point. The tree's agreement
+// with the closed forms under every estimator is in tests/test_light_matrix.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "core/light_tree.h"
-#include "core/lights.h"
-#include "core/partial.h"
-#include "core/rng.h"
-#include "core/warp.h"
+#include "core/frame/partial.h"
+#include "core/render/light_tree.h"
+#include "core/render/lights.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/warp.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
 
@@ -263,8 +263,8 @@ TEST(LightTree, SamplePdfEqualsThePdfOfTheFoundEmitter) {
 namespace pv {
 namespace {
 
-// The light sampler is part of the settings string partial renders record (core/partial.cpp): a tree render's parts
-// say so and read back as such, so a merge refuses to mix them with power parts; a power render's string is the
+// The light sampler is part of the settings string partial renders record (core/frame/partial.cpp): a tree render's
+// parts say so and read back as such, so a merge refuses to mix them with power parts; a power render's string is the
 // one of before the tree.
 TEST(LightSamplerSettings, RoundTripThroughTheSettingsString) {
     RenderSettings power, tree;

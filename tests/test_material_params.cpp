@@ -1,13 +1,13 @@
-// tests/test_material_params.cpp: the one parameters <-> Bsdf conversion (core/material_params.h) keeps core/bsdf.h's
-// promises for any input, and round-trips what it accepts.
+// tests/test_material_params.cpp: the one parameters <-> Bsdf conversion (core/scene/material_params.h) keeps
+// core/scene/bsdf.h's promises for any input, and round-trips what it accepts.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <limits>
 
-#include "core/material_params.h"
-#include "core/scene_file.h"
-#include "core/shading.h"
+#include "core/load/scene_file.h"
+#include "core/render/shading.h"
+#include "core/scene/material_params.h"
 
 namespace pv {
 namespace {

@@ -1,8 +1,8 @@
 // tests/test_metrics.cpp: error metrics and log-log fits used by `pathview bench` (TEST-CATALOG 6).
 #include <gtest/gtest.h>
 
-#include "core/error.h"
-#include "core/metrics.h"
+#include "core/base/error.h"
+#include "core/image/metrics.h"
 
 namespace pv {
 namespace {

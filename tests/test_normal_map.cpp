@@ -1,11 +1,11 @@
-// tests/test_normal_map.cpp: glTF normalTexture (core/normal_map.h): a flat quad whose normal map tilts the normal by
-// a known angle is lit as the quad geometrically tilted by that angle (direct lighting from a directional light, in
-// closed form), and a flat map (0.5, 0.5, 1) renders the image of no map bit for bit.
+// tests/test_normal_map.cpp: glTF normalTexture (core/render/normal_map.h): a flat quad whose normal map tilts the
+// normal by a known angle is lit as the quad geometrically tilted by that angle (direct lighting from a directional
+// light, in closed form), and a flat map (0.5, 0.5, 1) renders the image of no map bit for bit.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "core/normal_map.h"
+#include "core/render/normal_map.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

@@ -1,13 +1,13 @@
-// tests/test_portals.cpp: light portals (Scene::portals, core/traceable_scene.h): portal direction sampling against
-// its pdf (chi-square), the environment mixture with portals integrating to 1 and matching its samples' pdfs, the
-// same image with and without a portal (in the opening, and misplaced) within a confidence interval from the sample
+// tests/test_portals.cpp: light portals (Scene::portals, core/render/traceable_scene.h): portal direction sampling
+// against its pdf (chi-square), the environment mixture with portals integrating to 1 and matching its samples' pdfs,
+// the same image with and without a portal (in the opening, and misplaced) within a confidence interval from the sample
 // variance, and the scene file's "portals" key with its errors.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "core/error.h"
-#include "core/scene_file.h"
+#include "core/base/error.h"
+#include "core/load/scene_file.h"
 #include "tests/support/chi2.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"

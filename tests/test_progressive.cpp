@@ -8,9 +8,9 @@
 #include <cstring>
 #include <thread>
 
-#include "core/partial.h"
-#include "core/progressive.h"
-#include "core/scene_file.h"
+#include "core/frame/partial.h"
+#include "core/frame/progressive.h"
+#include "core/load/scene_file.h"
 
 namespace pv {
 namespace {
@@ -199,7 +199,7 @@ TEST(ProgressiveRenderer, DestructorWhileRendering) {
 }
 
 // ---------------------------------------------------------------- the viewer's resumable snapshot
-// request_partial(): the partial render (core/partial.h) is made between passes (its film is exactly that of spp
+// request_partial(): the partial render (core/frame/partial.h) is made between passes (its film is exactly that of spp
 // whole passes), also once rendering has stopped, and resuming it continues the accumulation bit for bit.
 
 namespace {

@@ -6,9 +6,9 @@
 
 #include <cstring>
 
-#include "core/renderer.h"
-#include "core/rng.h"
-#include "core/texture.h"
+#include "core/frame/renderer.h"
+#include "core/sampling/rng.h"
+#include "core/scene/texture.h"
 #include "support/scenes.h"
 
 namespace pv {

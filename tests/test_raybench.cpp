@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "app/bench/raybench.h"
-#include "core/renderer.h"
+#include "core/frame/renderer.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

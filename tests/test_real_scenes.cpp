@@ -7,13 +7,13 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/environment.h"
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/obj_loader.h"
-#include "core/renderer.h"
-#include "core/scene_file.h"
-#include "core/warp.h"
+#include "core/base/error.h"
+#include "core/frame/renderer.h"
+#include "core/image/image_io.h"
+#include "core/load/obj_loader.h"
+#include "core/load/scene_file.h"
+#include "core/sampling/warp.h"
+#include "core/scene/environment.h"
 #include "support/scenes.h"
 #include "support/stats.h"
 

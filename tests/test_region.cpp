@@ -8,11 +8,11 @@
 #include <filesystem>
 #include <thread>
 
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/progressive.h"
-#include "core/renderer.h"
-#include "core/scene_file.h"
+#include "core/base/error.h"
+#include "core/frame/progressive.h"
+#include "core/frame/renderer.h"
+#include "core/image/image_io.h"
+#include "core/load/scene_file.h"
 #include "tests/support/cli.h"
 
 namespace pv {

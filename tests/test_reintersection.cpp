@@ -4,13 +4,13 @@
 // with the barycentric error bound; uniform directions and shadow-ray segments towards random points) must never
 // hit the same triangle through Embree. This found two bugs: the fixed 256-ULP offset is smaller than p's own
 // rounding error on slivers whose vertices are far larger than p, and Embree's default (non-robust) triangle test
-// reports false hits on such slivers; core/math.h now takes an error bound and core/accel.cpp sets
+// reports false hits on such slivers; core/base/math.h now takes an error bound and core/render/accel.cpp sets
 // RTC_SCENE_FLAG_ROBUST. Both are needed: either alone leaves ~300 re-hits per bad sliver.
 #include <gtest/gtest.h>
 
-#include "core/accel.h"
-#include "core/rng.h"
-#include "core/warp.h"
+#include "core/render/accel.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/warp.h"
 
 namespace pv {
 namespace {

@@ -12,10 +12,10 @@
 
 #include <cmath>
 
-#include "core/accel.h"
-#include "core/rng.h"
-#include "core/surface.h"
-#include "core/warp.h"
+#include "core/render/accel.h"
+#include "core/render/surface.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/warp.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
 
@@ -182,7 +182,7 @@ TEST(CornerRays, FiveDegreeGrazingRaysHitTheOtherFaceAtTheAnalyticT) {
 // A millimetre-sized 5 degree wedge: Waechter and Binder's near-origin branch (move |p| < 1/32 by an absolute
 // 1/65536) is not scale-invariant: 1.5e-5 units is 1.5% of this 1e-3 wedge, more than the gap x0 tan(5 deg) to
 // the other face for x0 < 0.17 s, and ~75% of these rays started behind the other face until offset_ray_origin
-// kept that branch for |p| < 1e-30 only (core/math.h).
+// kept that branch for |p| < 1e-30 only (core/base/math.h).
 TEST(CornerRays, FiveDegreeMillimetreScaleDoesNotLeak) { expect_corner_rays_clean(5.0, 1e-3f); }
 
 // ---------------------------------------------------------------- contact shadow in a corner
@@ -408,7 +408,7 @@ GrazingStats shoot_skinny_triangles(int triangles, int rays_per_triangle, uint64
     return st;
 }
 
-// Breaks if Embree's robust mode is lost (core/accel.cpp's RTC_SCENE_FLAG_ROBUST) or a future Embree regresses
+// Breaks if Embree's robust mode is lost (core/render/accel.cpp's RTC_SCENE_FLAG_ROBUST) or a future Embree regresses
 // on #387-like input; a false hit or a wrong t far beyond the triangle is what the issue reported.
 TEST(EmbreeIssue387, GrazingRaysOnSkinnyTrianglesHaveNoFalseHits) {
     const GrazingStats st = shoot_skinny_triangles(200, 500, 1);
@@ -492,7 +492,7 @@ TEST(EmbreeIssue416, HugeBoxIsHitOnTopNotInside) {
 }
 
 // Then the path tracer's use of that top hit: from the point reconstructed from Embree's barycentrics with its
-// error bound (as core/integrator.cpp), a ray spawned up must escape and one spawned down (into the box) must
+// error bound (as core/render/integrator.cpp), a ray spawned up must escape and one spawned down (into the box) must
 // reach the bottom at t = 120000 (p's x, y errors are huge, its z error is 0.05). Breaks if the offset fails on
 // points whose x, y are 1e4 times their z.
 TEST(EmbreeIssue416, SpawnedRaysLeaveTheHugeBoxTopCorrectly) {
@@ -506,7 +506,7 @@ TEST(EmbreeIssue416, SpawnedRaysLeaveTheHugeBoxTopCorrectly) {
 // Beyond float's normal range: from half-width ~2.1e9 on, the top triangles' cross(p1 - p0, p2 - p0) has
 // |c| > 1.8e19, so dot(c, c) overflows float; a geometric normal c * (1 / length(c)) would be 0, the offset zero,
 // and about 90% of spawned rays re-hit the top face at t = 0 (as they did before surface_point normalised with
-// safe_normalize, core/math.h).
+// safe_normalize, core/base/math.h).
 TEST(EmbreeIssue416, SpawnedRaysLeaveTheHugeBoxTopBeyondFloatNormalRange) {
     for (double extent : {5.89075e9, 5.89075e11}) {
         const HugeBoxStats st = shoot_huge_box(extent, 2000, 8);
@@ -520,7 +520,7 @@ TEST(EmbreeIssue416, SpawnedRaysLeaveTheHugeBoxTopBeyondFloatNormalRange) {
 // from there to a point 2.4e8 away has a hit distance on its own wall of about -4e-39, which FTZ flushes to -0;
 // with tnear = 0 Embree counted that as a hit and about half of such shadow rays were occluded by their own wall
 // (measured: 104691 of 244624 shadow rays in the scaled Cornell box, against 47792 truly occluded). Accel's
-// tnear = FLT_MIN rejects it. Breaks with: tnear = 0 in core/accel.cpp.
+// tnear = FLT_MIN rejects it. Breaks with: tnear = 0 in core/render/accel.cpp.
 TEST(ZeroCoordinateWall, ShadowRaysAreNotOccludedByTheirOwnWallAtHugeScale) {
     const ScopedFtzDaz ftz;  // trace as the renderer's threads do, with flush-to-zero and denormals-are-zero
     for (float scale : {1.f, 1e6f, 1e8f}) {

@@ -8,9 +8,9 @@
 //    must agree; exactly 1 for albedo-1 Lambert, the mirror and lossless glass.
 #include <gtest/gtest.h>
 
-#include "core/bsdf.h"
-#include "core/lights.h"
-#include "core/warp.h"
+#include "core/render/lights.h"
+#include "core/sampling/warp.h"
+#include "core/scene/bsdf.h"
 #include "tests/support/chi2.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"

@@ -8,9 +8,9 @@
 #include <cstring>
 #include <vector>
 
-#include "core/distribution.h"
-#include "core/rng.h"
-#include "core/texture.h"
+#include "core/sampling/distribution.h"
+#include "core/sampling/rng.h"
+#include "core/scene/texture.h"
 
 namespace pv {
 namespace {

@@ -1,4 +1,4 @@
-// tests/test_shard.cpp: partial renders (core/partial.h). Four shards of a 64-spp render merged through their
+// tests/test_shard.cpp: partial renders (core/frame/partial.h). Four shards of a 64-spp render merged through their
 // files equal the single render (the stored double sums are exact; only the order of the double additions
 // differs, so the sums agree within the recursive-summation bound and the float means bit for bit or within
 // one float ulp); a resumed part equals the single render bit for bit; the file round-trips exactly; bad parts
@@ -12,10 +12,10 @@
 #include <fstream>
 #include <functional>
 
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/partial.h"
-#include "core/renderer.h"
+#include "core/base/error.h"
+#include "core/frame/partial.h"
+#include "core/frame/renderer.h"
+#include "core/image/image_io.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/image_io.h"
-#include "core/partial.h"
+#include "core/frame/partial.h"
+#include "core/image/image_io.h"
 #include "tests/support/cli.h"
 
 namespace pv {

@@ -1,13 +1,13 @@
-// tests/test_sky_guide.cpp: the learned sky distribution for next-event estimation (core/sky_guide.h): its
+// tests/test_sky_guide.cpp: the learned sky distribution for next-event estimation (core/render/sky_guide.h): its
 // sampling against its pdf (chi-square) alone and inside the environment's mixture, the guided and unguided images
 // of a room lit through a window agreeing within a confidence interval from the sample variance, a white furnace
 // under a constant sky, determinism (threads, resumed shards), where it applies, and that it concentrates: guided
 // sky samples pass the window far more often than the sky's own.
 #include <gtest/gtest.h>
 
-#include "core/partial.h"
-#include "core/renderer.h"
-#include "core/sky_guide.h"
+#include "core/frame/partial.h"
+#include "core/frame/renderer.h"
+#include "core/render/sky_guide.h"
 #include "tests/support/chi2.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"

@@ -1,8 +1,8 @@
 // tests/test_smoke.cpp: the built-in Cornell box loads and renders a finite image.
 #include <gtest/gtest.h>
 
-#include "core/renderer.h"
-#include "core/scene_file.h"
+#include "core/frame/renderer.h"
+#include "core/load/scene_file.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

@@ -6,8 +6,8 @@
 
 #include <vector>
 
-#include "core/sampler.h"
-#include "core/sobol.h"
+#include "core/sampling/sampler.h"
+#include "core/sampling/sobol.h"
 
 namespace pv {
 namespace {

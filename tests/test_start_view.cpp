@@ -1,4 +1,4 @@
-// tests/test_start_view.cpp: the start view of a scene without a camera (core/start_view.h): a closed room starts
+// tests/test_start_view.cpp: the start view of a scene without a camera (core/load/start_view.h): a closed room starts
 // inside, looking along its long axis; objects (a closed sphere, a box open at its front with blocks in it) keep the
 // outside framing bit for bit; load_scene gives OBJ and JSON scenes without a camera that view.
 #include <gtest/gtest.h>
@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/scene_file.h"
-#include "core/start_view.h"
+#include "core/load/scene_file.h"
+#include "core/load/start_view.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

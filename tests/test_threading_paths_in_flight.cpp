@@ -4,7 +4,7 @@
 
 #include <cstring>
 
-#include "core/renderer.h"
+#include "core/frame/renderer.h"
 #include "support/scenes.h"
 
 namespace pv {

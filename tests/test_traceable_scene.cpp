@@ -1,13 +1,13 @@
-// tests/test_traceable_scene.cpp: the scene prepared for tracing (core/traceable_scene.h): its one light interface
-// over emissive triangles, sky and sun (selection probabilities, sampling against its own pdfs by chi-square),
-// picking, and material and environment edits.
+// tests/test_traceable_scene.cpp: the scene prepared for tracing (core/render/traceable_scene.h): its one light
+// interface over emissive triangles, sky and sun (selection probabilities, sampling against its own pdfs by
+// chi-square), picking, and material and environment edits.
 #include <gtest/gtest.h>
 
-#include "core/environment.h"
-#include "core/rng.h"
-#include "core/surface.h"
-#include "core/traceable_scene.h"
-#include "core/warp.h"
+#include "core/render/surface.h"
+#include "core/render/traceable_scene.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/warp.h"
+#include "core/scene/environment.h"
 #include "tests/support/chi2.h"
 #include "tests/support/scenes.h"
 

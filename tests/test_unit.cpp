@@ -5,13 +5,13 @@
 
 #include <filesystem>
 
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/math.h"
-#include "core/renderer.h"
-#include "core/rng.h"
-#include "core/sampler.h"
-#include "core/warp.h"
+#include "core/base/error.h"
+#include "core/base/math.h"
+#include "core/frame/renderer.h"
+#include "core/image/image_io.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/sampler.h"
+#include "core/sampling/warp.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
 

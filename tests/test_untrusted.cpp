@@ -20,11 +20,11 @@
 #include <sstream>
 #include <thread>
 
-#include "core/error.h"
-#include "core/file_io.h"
-#include "core/image_io.h"
-#include "core/scene_file.h"
-#include "core/texture.h"
+#include "core/base/error.h"
+#include "core/base/file_io.h"
+#include "core/image/image_io.h"
+#include "core/load/scene_file.h"
+#include "core/scene/texture.h"
 #include "tests/support/child.h"
 
 namespace pv {

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/gltf_loader.h"
+#include "core/load/gltf_loader.h"
 
 namespace pv {
 namespace {

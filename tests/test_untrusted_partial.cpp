@@ -13,10 +13,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/partial.h"
-#include "core/texture.h"
+#include "core/base/error.h"
+#include "core/frame/partial.h"
+#include "core/image/image_io.h"
+#include "core/scene/texture.h"
 #include "tests/support/cli.h"
 
 namespace pv {

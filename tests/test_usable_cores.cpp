@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 #include <sched.h>
 
-#include "core/parallel.h"
-#include "core/renderer.h"
+#include "core/base/parallel.h"
+#include "core/frame/renderer.h"
 #include "support/scenes.h"
 
 namespace pv {

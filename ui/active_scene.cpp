@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "core/environment.h"
+#include "core/scene/environment.h"
 
 namespace pv::ui {
 

@@ -1,8 +1,8 @@
 // ui/bookmarks.cpp: bookmark jumps and saves (see bookmarks.h).
 #include "bookmarks.h"
 
-#include "core/error.h"
-#include "core/scene_file.h"
+#include "core/base/error.h"
+#include "core/load/scene_file.h"
 
 namespace pv::ui {
 

@@ -1,5 +1,5 @@
 // ui/bookmarks.h: the Camera section's bookmarks: jump to a saved camera, or save the current one under a name in
-// the scene file (core/scene_file.h save_bookmark: a JSON scene file is rewritten, an OBJ gets "<obj>.json").
+// the scene file (core/load/scene_file.h save_bookmark: a JSON scene file is rewritten, an OBJ gets "<obj>.json").
 // Window-free.
 #pragma once
 

@@ -3,7 +3,7 @@
 // Pixel deltas are window pixels, x to the right and y down.
 #pragma once
 
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 namespace pv::ui {
 

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <exception>
 
-#include "core/image_io.h"
-#include "core/metrics.h"
+#include "core/image/image_io.h"
+#include "core/image/metrics.h"
 
 namespace pv::ui {
 namespace {

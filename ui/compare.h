@@ -1,7 +1,7 @@
 // ui/compare.h: before/after comparison. The image shown (A, live) is compared with a held image B: one taken from
 // the screen (key B, "Hold B") or read from an EXR (the panel's path field, `pathview view --compare FILE.exr`).
 // Views: A alone, A | B split by a vertical divider (right drag moves it), B alone (V flips), and the relative
-// difference |A - B| / (B + eps) in false colour. Against B the panel shows the live relMSE of A (core/metrics.h)
+// difference |A - B| / (B + eps) in false colour. Against B the panel shows the live relMSE of A (core/image/metrics.h)
 // and its history. Window-free: the viewer feeds it snapshots and uploads what it computes (ui/display.h).
 #pragma once
 
@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "convergence.h"
-#include "core/film.h"
-#include "core/progressive.h"
+#include "core/frame/progressive.h"
+#include "core/image/film.h"
 
 namespace pv::ui {
 
@@ -30,7 +30,7 @@ struct CompareActions {
 
 class Compare {
 public:
-    // eps of the difference view, as core/metrics.h's relMSE and MAPE.
+    // eps of the difference view, as core/image/metrics.h's relMSE and MAPE.
     static constexpr float kEps = 0.01f;
 
     // Applies a frame's actions. `displayed` is the image on screen (A), `denoised` whether its denoised image is

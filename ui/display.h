@@ -9,7 +9,7 @@
 #include <string>
 
 #include "compare.h"
-#include "core/progressive.h"
+#include "core/frame/progressive.h"
 
 namespace pv::ui {
 

@@ -5,7 +5,7 @@
 #include <cctype>
 #include <filesystem>
 
-#include "core/scene_file.h"
+#include "core/load/scene_file.h"
 
 namespace pv::ui {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 namespace pv::ui {
 
@@ -26,8 +26,8 @@ struct DropRequest {
 // were ignored), or, when none is known, the first file and the extensions expected.
 DropRequest dispatch_drop(const std::vector<std::string>& paths);
 
-// `scene` lit by the equirectangular map at `map_path` (core/scene_file.h set_environment_map), seen from `camera`,
-// with the materials and environment settings as edited in the viewer. Throws pv::Error naming the file.
+// `scene` lit by the equirectangular map at `map_path` (core/load/scene_file.h set_environment_map), seen from
+// `camera`, with the materials and environment settings as edited in the viewer. Throws pv::Error naming the file.
 Scene with_environment_map(const Scene& scene, const std::string& map_path, const CameraDesc& camera,
                            const std::vector<Material>& materials, const EnvironmentSettings& environment);
 

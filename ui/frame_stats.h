@@ -3,7 +3,7 @@
 // tests/gui/measure_viewer.sh read it), and the "frame" lines with each request's input-to-frame latency. Window-free.
 #pragma once
 
-#include "core/progressive.h"
+#include "core/frame/progressive.h"
 #include "refinement.h"
 #include "view_log.h"
 

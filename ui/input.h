@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/math.h"
+#include "core/base/math.h"
 
 namespace pv::ui {
 

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/material_params.h"
+#include "core/scene/material_params.h"
 
 namespace pv::ui {
 namespace {
@@ -27,7 +27,7 @@ bool edit_material(Material& m) {
     BsdfParams f = bsdf_params(m.bsdf);
     int type = int(f.type);
     bool changed = ImGui::Combo("type", &type, "diffuse\0glossy\0mirror\0glass\0metallic-roughness\0");
-    f = with_type(f, BsdfType(type));  // a new type's fields by meaning (core/material_params.h)
+    f = with_type(f, BsdfType(type));  // a new type's fields by meaning (core/scene/material_params.h)
     if (f.type != BsdfType::Glass)
         changed |= ImGui::ColorEdit3(f.type == BsdfType::Mirror ? "reflectance" : "base colour", &f.base.x,
                                      ImGuiColorEditFlags_Float);
@@ -39,7 +39,7 @@ bool edit_material(Material& m) {
     }
     if (f.type == BsdfType::Glass)
         changed |= ImGui::SliderFloat("IOR", &f.ior, 1.0001f, 3.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
-    if (f.type == BsdfType::MetallicRoughness) {  // glTF's factors (core/bsdf_pbr.h)
+    if (f.type == BsdfType::MetallicRoughness) {  // glTF's factors (core/scene/bsdf_pbr.h)
         changed |= ImGui::SliderFloat("metallic", &f.metallic, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
         changed |= ImGui::SliderFloat("roughness", &f.roughness, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
         changed |= ImGui::SliderFloat("IOR", &f.ior, 1.f, 3.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);

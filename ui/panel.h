@@ -11,8 +11,8 @@
 #include "camera_controller.h"
 #include "compare.h"
 #include "convergence.h"
-#include "core/environment.h"
-#include "core/renderer.h"
+#include "core/frame/renderer.h"
+#include "core/scene/environment.h"
 #include "display.h"
 #include "view_log.h"
 

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "core/progressive.h"
+#include "core/frame/progressive.h"
 #include "panel.h"
 #include "refinement.h"
 #include "view_log.h"

@@ -7,7 +7,7 @@
 #include <future>
 #include <memory>
 
-#include "core/progressive.h"
+#include "core/frame/progressive.h"
 
 namespace pv::ui {
 

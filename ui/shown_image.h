@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "convergence.h"
-#include "core/progressive.h"
+#include "core/frame/progressive.h"
 
 namespace pv::ui {
 

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "core/image_io.h"
+#include "core/image/image_io.h"
 
 namespace pv::ui {
 

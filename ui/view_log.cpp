@@ -6,7 +6,7 @@
 #include <cstdarg>
 #include <cstring>
 
-#include "core/error.h"
+#include "core/base/error.h"
 
 namespace pv::ui {
 namespace {

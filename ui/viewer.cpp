@@ -20,7 +20,7 @@
 #include "bookmarks.h"
 #include "camera_controller.h"
 #include "compare.h"
-#include "core/scene_file.h"
+#include "core/load/scene_file.h"
 #include "display.h"
 #include "drop.h"
 #include "frame_stats.h"

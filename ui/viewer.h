@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "core/progressive.h"
+#include "core/frame/progressive.h"
 
 namespace pv::ui {
 

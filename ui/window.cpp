@@ -5,7 +5,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
-#include "core/error.h"
+#include "core/base/error.h"
 
 namespace pv::ui {
 namespace {

@@ -7,7 +7,7 @@
 
 #include "app/bench/raybench.h"
 #include "app/bench/series.h"
-#include "core/renderer.h"
+#include "core/frame/renderer.h"
 
 namespace pv::app {
 

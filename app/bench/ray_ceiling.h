@@ -6,7 +6,7 @@
 
 #include "app/bench/options.h"
 #include "app/progress.h"
-#include "core/scene.h"
+#include "core/scene/scene.h"
 
 namespace pv::app {
 

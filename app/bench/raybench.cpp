@@ -10,10 +10,10 @@
 #include <chrono>
 #include <vector>
 
-#include "core/parallel.h"
-#include "core/rng.h"
-#include "core/surface.h"
-#include "core/warp.h"
+#include "core/base/parallel.h"
+#include "core/render/surface.h"
+#include "core/sampling/rng.h"
+#include "core/sampling/warp.h"
 
 namespace pv {
 

@@ -1,13 +1,13 @@
 // app/bench/raybench.h: Embree's raw ray rate on a scene through pv::Accel, for the ray mix a path tracer traces:
 // camera rays, incoherent bounce rays (cosine-distributed about the surface normal along random walks) and shadow
-// rays to sampled light points (offset and bounded exactly as core/integrator.cpp does). The rays are generated
+// rays to sampled light points (offset and bounded exactly as core/render/integrator.cpp does). The rays are generated
 // first, then traced in a timed loop on `threads` workers: no shading, sampling or film work is timed.
 #pragma once
 
 #include <cstdint>
 
-#include "core/camera.h"
-#include "core/traceable_scene.h"
+#include "core/render/traceable_scene.h"
+#include "core/scene/camera.h"
 
 namespace pv {
 

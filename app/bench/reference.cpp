@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "core/error.h"
-#include "core/image_io.h"
+#include "core/base/error.h"
+#include "core/image/image_io.h"
 
 namespace pv::app {
 

@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "core/scene_file.h"
+#include "core/load/scene_file.h"
 
 namespace pv {
 

@@ -5,9 +5,9 @@
 #include <chrono>
 
 #include "app/bench/raybench.h"
-#include "core/aov.h"
-#include "core/denoise_atrous.h"
-#include "core/denoise_nfor.h"
+#include "core/frame/aov.h"
+#include "core/frame/denoise_atrous.h"
+#include "core/frame/denoise_nfor.h"
 
 namespace pv::app {
 

@@ -5,7 +5,7 @@
 #include "app/bench.h"
 #include "app/bench/options.h"
 #include "app/progress.h"
-#include "core/renderer.h"
+#include "core/frame/renderer.h"
 
 namespace pv::app {
 

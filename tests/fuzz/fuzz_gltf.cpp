@@ -8,8 +8,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/error.h"
-#include "core/gltf_loader.h"
+#include "core/base/error.h"
+#include "core/load/gltf_loader.h"
 #include "tests/fuzz/fuzz_scene_checks.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -7,9 +7,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/texture.h"
+#include "core/base/error.h"
+#include "core/image/image_io.h"
+#include "core/scene/texture.h"
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
     // 4 megapixels: large enough for every decoder's paths, small enough for thousands of runs a second.

@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/error.h"
-#include "core/obj_loader.h"
+#include "core/base/error.h"
+#include "core/load/obj_loader.h"
 #include "tests/fuzz/fuzz_scene_checks.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -6,9 +6,9 @@
 
 #include <cstdlib>
 
-#include "core/accel.h"
-#include "core/error.h"
-#include "core/lights.h"
+#include "core/base/error.h"
+#include "core/render/accel.h"
+#include "core/render/lights.h"
 
 namespace pv_fuzz {
 

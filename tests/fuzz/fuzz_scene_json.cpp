@@ -11,9 +11,9 @@
 #include <fstream>
 #include <string>
 
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/scene_file.h"
+#include "core/base/error.h"
+#include "core/image/image_io.h"
+#include "core/load/scene_file.h"
 
 namespace {
 std::string g_dir;

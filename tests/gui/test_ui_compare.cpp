@@ -8,8 +8,8 @@
 #include <fstream>
 
 #include "compare.h"
-#include "core/image_io.h"
-#include "core/metrics.h"
+#include "core/image/image_io.h"
+#include "core/image/metrics.h"
 #include "navigation.h"
 
 namespace pv::ui {
@@ -128,7 +128,7 @@ TEST(ViewerCompare, LoadChecksTheFileAndItsSize) {
     }
 }
 
-// relMSE of the raw mean (and the denoised image) against B, as core/metrics.h defines it: for constants a and b,
+// relMSE of the raw mean (and the denoised image) against B, as core/image/metrics.h defines it: for constants a and b,
 // (a - b)^2 / (b^2 + 0.01). Only at B's size; the history follows the accumulation.
 TEST(ViewerCompare, RelMseAgainstBAndItsHistory) {
     Compare c;

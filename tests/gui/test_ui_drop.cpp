@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/error.h"
-#include "core/image_io.h"
-#include "core/scene_file.h"
+#include "core/base/error.h"
+#include "core/image/image_io.h"
+#include "core/load/scene_file.h"
 #include "drop.h"
 
 namespace pv::ui {

@@ -6,8 +6,8 @@
 #include <chrono>
 #include <thread>
 
-#include "core/error.h"
-#include "core/scene_file.h"
+#include "core/base/error.h"
+#include "core/load/scene_file.h"
 #include "navigation.h"
 #include "refinement.h"
 #include "restarts.h"

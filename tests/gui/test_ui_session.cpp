@@ -12,7 +12,7 @@
 
 #include "active_scene.h"
 #include "bookmarks.h"
-#include "core/scene_file.h"
+#include "core/load/scene_file.h"
 #include "frame_stats.h"
 #include "restarts.h"
 #include "shown_image.h"

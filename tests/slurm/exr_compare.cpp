@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "core/error.h"
-#include "core/image_io.h"
+#include "core/base/error.h"
+#include "core/image/image_io.h"
 
 int main(int argc, char** argv) {
     if (argc < 3) {

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "core/math.h"
-#include "core/rng.h"
+#include "core/base/math.h"
+#include "core/sampling/rng.h"
 
 namespace pv::test {
 

@@ -7,9 +7,9 @@
 #include <map>
 #include <mutex>
 
-#include "core/environment.h"
-#include "core/renderer.h"
-#include "core/scene_file.h"
+#include "core/frame/renderer.h"
+#include "core/load/scene_file.h"
+#include "core/scene/environment.h"
 #include "tests/support/chi2.h"
 
 namespace pv::test {

@@ -6,11 +6,11 @@
 #include <functional>
 #include <memory>
 
-#include "core/camera.h"
-#include "core/film.h"
-#include "core/integrator.h"
-#include "core/scene.h"
-#include "core/traceable_scene.h"
+#include "core/image/film.h"
+#include "core/render/integrator.h"
+#include "core/render/traceable_scene.h"
+#include "core/scene/camera.h"
+#include "core/scene/scene.h"
 
 namespace pv::test {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/film.h"
+#include "core/image/film.h"
 
 namespace pv::test {
 

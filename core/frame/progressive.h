@@ -1,0 +1,183 @@
+// core/frame/progressive.h: the asynchronous driver of a Renderer, for the viewer. A driver thread renders passes back
+// to back; restart() only posts a request (camera, settings, size, materials) and never waits: the pass in flight
+// is cancelled and the film is restarted before the next pass, so no sample of an older request ever lands in a
+// newer accumulation. After each completed pass the driver publishes a Snapshot under a mutex held only for the
+// copy. Every snapshot carries the generation of the request it belongs to (restart() returns it).
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "core/frame/aov.h"
+#include "core/frame/denoise_atrous.h"
+#include "core/frame/partial.h"
+#include "core/frame/renderer.h"
+
+namespace pv {
+
+// What the driver should render. materials: empty = keep the current ones (same count as the scene's);
+// environment: nothing = keep the current one.
+struct RenderRequest {
+    CameraDesc camera;
+    RenderSettings settings;
+    int width = 1, height = 1;
+    std::vector<Material> materials;
+    std::optional<EnvironmentSettings> environment;  // nothing = keep the current one
+    AdaptiveSettings adaptive;                       // noise threshold (off by default)
+    // A render region in this request's pixels (Renderer::set_region; clamped to the image): every sample lands
+    // inside it. Nothing: the whole image. Not with adaptive sampling; no resumable snapshot of a region.
+    std::optional<PixelRect> region;
+};
+
+// The published state of one accumulation after a completed pass. Images are row-major from the top-left.
+struct Snapshot {
+    uint64_t generation = 0;  // restart() that this accumulation belongs to (0: nothing rendered yet)
+    uint64_t serial = 0;      // increases with every publication
+    int width = 0, height = 0;
+    std::vector<float> rgb;        // mean radiance, 3 floats per pixel
+    std::vector<float> rel_error;  // per-pixel relative RMS error of the mean from the half buffers (0 if < 2 spp)
+    std::vector<float> samples;    // accepted samples per pixel
+    uint32_t spp = 0;
+    double seconds = 0.0;  // time spent in completed passes since the restart
+    uint64_t rays = 0;     // closest-hit + shadow rays
+    uint64_t paths = 0;
+    uint64_t dropped = 0;
+    double mrays_per_s = 0.0;
+    double ms_per_pass = 0.0;     // the last pass
+    double rel_mse = 0.0;         // Film::estimated_rel_mse(); 0 below 2 spp
+    bool target_reached = false;  // rendering stopped at the target spp / seconds, or every pixel converged
+    // Adaptive sampling: the fraction of pixels still taking samples (1 without it), and the estimated seconds of
+    // rendering left until every pixel reaches the noise threshold (< 0: unknown), from a log-log fit of the worst
+    // active pixel's filtered error against samples over the last checkpoints, at the current pass time.
+    std::string sky_guide;  // Renderer::sky_guide_status()
+    double active_fraction = 1.0;
+    double seconds_to_threshold = -1.0;
+    // With set_denoise(true): the a-trous denoised mean (core/frame/denoise_atrous.h) of this accumulation at
+    // denoised_spp samples (it lags spp while rendering: the filter runs at most a third of the time), and the
+    // filter's last time. Empty when off or not made yet. rel_mse and every other figure stay the noisy image's.
+    std::vector<float> denoised;
+    uint32_t denoised_spp = 0;
+    double denoise_ms = 0.0;
+    // The first publication of an accumulation: the driver's time from taking the request to this snapshot being
+    // ready (restart, sky guide, the pass, the denoiser's features and filter, the copy), and the features' share
+    // (0 when not denoising). Later snapshots of the same accumulation carry the same figures.
+    double first_ready_ms = 0.0;
+    double features_ms = 0.0;
+    double wait_ms = 0.0;  // from restart() to the driver taking the request (the pass or filter it had to end)
+    CameraDesc camera;
+    RenderSettings settings;
+    PixelRect region;   // the render region (the whole image without one): pixels outside have no samples
+    Metadata metadata;  // render_metadata() of this accumulation, for EXR snapshots (with pathview:region)
+};
+
+class ProgressiveRenderer {
+public:
+    // Builds the Renderer (BVH; throws pv::Error) and starts the driver thread, idle until the first restart().
+    ProgressiveRenderer(std::shared_ptr<const Scene> scene, int threads = 0);
+    // Cancels the pass in flight and joins the driver thread.
+    ~ProgressiveRenderer();
+    ProgressiveRenderer(const ProgressiveRenderer&) = delete;
+    ProgressiveRenderer& operator=(const ProgressiveRenderer&) = delete;
+
+    // Posts a new request and returns its generation. Never blocks on a pass. Throws pv::Error (and posts
+    // nothing) for an invalid camera or size, or materials of the wrong count.
+    uint64_t restart(const RenderRequest& request);
+    // Pausing stops after the pass in flight (which is still published); resuming continues the accumulation.
+    void set_paused(bool paused);
+    // Denoised snapshots (Snapshot::denoised) on or off; never restarts or touches the accumulation. Turned on
+    // while rendering has stopped, the driver denoises the current film once and publishes it.
+    void set_denoise(bool on);
+    // Stops rendering (target_reached) once spp >= target_spp or seconds >= target_seconds, or once every pixel has
+    // reached the request's noise threshold; 0 = no target.
+    void set_target(uint32_t target_spp, double target_seconds);
+
+    // Copies the latest snapshot into `out` if its serial is newer than out.serial; returns whether it did.
+    bool latest(Snapshot& out) const;
+    // The generation of the latest snapshot (0 before the first); cheap, for the viewer's frame pacing.
+    uint64_t published_generation() const;
+    // Blocks until a snapshot of `generation` with spp >= min_spp is published, or the timeout passes
+    // (tests and tools; the viewer never waits).
+    bool wait_for(uint64_t generation, uint32_t min_spp, std::chrono::milliseconds timeout) const;
+    // Asks for the accumulation as a resumable partial render (core/frame/partial.h; samples [0, spp)), made by the
+    // driver between passes, also while paused or stopped (after the first pass of a new accumulation). Once it is
+    // made, take_partial() returns it (once) and the on_publish callback runs.
+    void request_partial();
+    std::optional<PartialRender> take_partial();
+    // Why the last requested partial render was refused (once; "" if it was not): adaptive sampling's films are
+    // not sums over sample indices, so they cannot be resumed or merged (core/frame/adaptive.h).
+    std::string take_partial_refusal();
+    // Called on the driver thread after each publication (the viewer wakes its event loop with it).
+    // Set before the first restart().
+    void set_on_publish(std::function<void()> callback);
+
+    // Traces the primary ray through film pixel `film_px` of an image of width x height seen by `camera`.
+    // Thread-safe (the BVH is read-only); nothing when the ray escapes.
+    std::optional<PickResult> pick(const CameraDesc& camera, int width, int height, vec2 film_px) const;
+    const Scene& scene() const { return *m_scene; }
+    int threads() const;
+
+private:
+    void drive();
+    // Under m_mutex, on the driver thread.
+    bool target_reached() const;
+    bool should_render() const;
+    bool partial_due() const;  // a requested partial render can be made now
+    bool denoise_due() const;  // denoising is on and the film's last state has not been denoised
+    void publish(uint64_t generation, bool target_reached, bool force_denoise = false);
+    // On the driver thread: refreshes m_denoised_image for the current film when due (or forced).
+    void update_denoised(uint64_t generation, bool force);
+    double seconds_to_threshold(float threshold) const;
+
+    std::shared_ptr<const Scene> m_scene;
+    Renderer m_renderer;  // used by the driver thread only, apart from its read-only BVH and scene
+    std::atomic<bool> m_cancel{false};
+
+    // Requests and control, under m_mutex.
+    mutable std::mutex m_mutex;
+    std::condition_variable m_wake;
+    std::optional<RenderRequest> m_pending;
+    uint64_t m_generation = 0;  // of the last request posted
+    bool m_paused = false;
+    bool m_quit = false;
+    bool m_partial_requested = false;
+    bool m_denoise = false;
+    uint32_t m_target_spp = 0;
+    double m_target_seconds = 0.0;
+    std::function<void()> m_on_publish;
+    // (spp, worst active relative MSE) at the adaptive checkpoints of the current accumulation; driver thread.
+    std::vector<std::pair<double, double>> m_error_history;
+    // Denoising state, driver thread only: which accumulation (and size) the filter's features are of, the last
+    // denoised image, what it was made from, and the filter's timing (for the throttle).
+    uint64_t m_features_generation = 0;
+    int m_features_width = 0, m_features_height = 0;
+    int m_features_samples = 0;  // per pixel, of the features the filter holds
+    AtrousDenoiser m_atrous;     // keeps its feature planes and memory between frames
+    Image m_denoised_image;
+    uint64_t m_denoised_generation = 0;
+    uint32_t m_denoised_spp = 0;
+    double m_denoise_seconds = 0.0;
+    std::chrono::steady_clock::time_point m_denoise_end{};
+    double m_features_seconds = 0.0;                           // the last feature pass
+    std::chrono::steady_clock::time_point m_request_taken{};   // when the driver took the current request
+    std::chrono::steady_clock::time_point m_request_posted{};  // when restart() posted it (under m_mutex)
+    double m_wait_ms = 0.0;
+    uint64_t m_first_generation = 0;  // the accumulation whose first publication the next two describe
+    double m_first_ready_ms = 0.0, m_first_features_ms = 0.0;
+
+    // The published snapshot, under m_snapshot_mutex; the driver fills m_back outside it.
+    mutable std::mutex m_snapshot_mutex;
+    mutable std::condition_variable m_published;
+    Snapshot m_front;
+    Snapshot m_back;
+    std::optional<PartialRender> m_partial;  // made on request_partial(), until taken
+    std::string m_partial_refusal;           // or why it was not made, until taken
+
+    std::thread m_thread;  // last: started after everything above exists
+};
+
+}  // namespace pv

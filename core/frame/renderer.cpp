@@ -1,0 +1,319 @@
+// core/frame/renderer.cpp: tiles on a TBB arena; counters are per tile, added once per tile (no shared cache
+// lines in the hot loop).
+#include "core/frame/renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "core/base/error.h"
+#include "core/base/parallel.h"
+#include "core/base/tsan.h"
+#include "core/frame/partial.h"
+#include "core/render/sky_guide.h"
+
+namespace pv {
+
+namespace {
+constexpr int kTile = 16;
+
+struct alignas(64) TileTotals {
+    PathCounters counters;
+    uint64_t dropped = 0;
+};
+}  // namespace
+
+struct Renderer::Pool {
+    tbb::task_arena arena;
+    explicit Pool(int threads) : arena(threads) {}
+};
+
+Renderer::Renderer(std::shared_ptr<const Scene> scene, int threads, const std::function<void(double)>& build_progress) {
+    m_threads = threads > 0 ? threads : usable_cores();
+    m_pool = std::make_unique<Pool>(m_threads);
+    m_pool->arena.execute([&] { m_traceable = std::make_unique<TraceableScene>(std::move(scene), build_progress); });
+    m_camera = Camera(m_traceable->scene().camera, 64, 64);
+    m_paths_in_flight = default_paths_in_flight(*m_traceable);
+}
+
+int default_paths_in_flight(const TraceableScene& ts) {
+    const Scene& s = ts.scene();
+    size_t bytes = ts.accel().stats().bytes;
+    if (ts.triangle_record(0)) bytes += s.triangles.size() * sizeof(TriangleRecord);
+    for (const Texture& t : s.textures) bytes += t.bytes();
+    return bytes > kInterleaveBytes ? 4 : 1;
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::set_materials(const std::vector<Material>& materials) {
+    m_pool->arena.execute([&] { m_traceable->set_materials(materials); });  // a BVH rebuild runs on our threads
+    ++m_scene_version;
+}
+
+void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings, int width, int height) {
+    // Checked before anything changes: a refused restart leaves the renderer as it was.
+    PixelRect region{0, 0, width, height};
+    if (m_region_next) {
+        const PixelRect& r = *m_region_next;
+        region = PixelRect{std::clamp(r.x0, 0, width), std::clamp(r.y0, 0, height), std::clamp(r.x1, 0, width),
+                           std::clamp(r.y1, 0, height)};
+        if (region != PixelRect{0, 0, width, height} && (m_adaptive_next.enabled() || m_adaptive_next.allocate))
+            throw Error("a render region cannot be combined with adaptive sampling");
+    }
+    m_region = region;
+    m_camera = Camera(camera, width, height);
+    m_settings = settings;
+    m_traceable->set_light_sampler(settings.light_sampler);  // the tree is built on first use (not timed)
+    m_film.reset(width, height);
+    m_adaptive = m_adaptive_next;
+    m_mask.reset(width, height);
+    // Allocation: the pilot and main films, which m_film combines (core/frame/adaptive.h); nothing without it.
+    m_pilot.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);
+    m_main.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);
+    m_main_passes = 0;
+    const RenderStats previous = m_stats;
+    m_stats = RenderStats{};
+    m_next_sample = 0;
+    // The guide is trained in the first pass (timed with it) and frozen for the accumulation, so every shard,
+    // resume and half buffer sees the same one; with set_keep_sky_guide, a camera or size change keeps it.
+    if (m_keep_guide && m_guide_decided && settings == m_guide_settings && m_scene_version == m_guide_version) {
+        m_stats.guide_used = previous.guide_used;
+        m_stats.guide_variance_ratio = previous.guide_variance_ratio;
+        return;
+    }
+    m_traceable->set_sky_guide(nullptr);
+    m_guide_pending = settings.sky_guide != SkyGuideMode::Off;
+    m_guide_decided = false;
+}
+
+RenderSettings Renderer::settings_as_rendered() const {
+    RenderSettings s = m_settings;
+    if (!sky_guide_applies(*m_traceable, m_settings))
+        s.sky_guide = SkyGuideMode::Off;
+    else if (s.sky_guide == SkyGuideMode::Auto && !m_guide_pending)  // decided: on only where the guide is used
+        s.sky_guide = m_traceable->sky_guide() ? SkyGuideMode::On : SkyGuideMode::Off;
+    return s;
+}
+
+std::string Renderer::sky_guide_status() const {
+    if (m_settings.sky_guide == SkyGuideMode::Off) return "";
+    if (!sky_guide_applies(*m_traceable, m_settings)) return "not applicable";
+    if (m_guide_pending) return "training in the first pass";
+    const char* state = m_traceable->sky_guide() ? "on" : "off";
+    if (m_settings.sky_guide != SkyGuideMode::Auto) return state;
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%s (auto: variance x%.2f predicted)", state, m_stats.guide_variance_ratio);
+    return buf;
+}
+
+void Renderer::load_film(Film film) {
+    if (film.width() != m_film.width() || film.height() != m_film.height())
+        throw Error("a film of " + std::to_string(film.width()) + "x" + std::to_string(film.height()) +
+                    " does not fit a render of " + std::to_string(m_film.width()) + "x" +
+                    std::to_string(m_film.height()));
+    if (m_adaptive.allocate)
+        throw Error("a film cannot be loaded into a render with adaptive sampling (its samples are not per index)");
+    m_film = std::move(film);
+}
+
+bool Renderer::render_pass(const std::atomic<bool>* cancel) {
+    const auto start = std::chrono::steady_clock::now();
+    if (m_guide_pending) {
+        m_guide_pending = false;
+        SkyGuideTraining t;
+        m_pool->arena.execute([&] { t = train_sky_guide_judged(*m_traceable, m_settings, m_camera); });
+        if (t.guide)
+            m_stats.guide_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        m_stats.guide_variance_ratio = t.variance_ratio;
+        if (m_settings.sky_guide == SkyGuideMode::Auto && !t.use) t.guide = nullptr;
+        m_stats.guide_used = t.guide != nullptr;
+        m_traceable->set_sky_guide(std::move(t.guide));
+        m_guide_decided = true;
+        m_guide_settings = m_settings;
+        m_guide_version = m_scene_version;
+    }
+    const int w = m_film.width(), h = m_film.height();
+    const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
+    const uint32_t index = m_next_sample;
+    if (m_stats.spp == 0) m_first_sample = m_next_sample;
+    const TraceableScene& ts = *m_traceable;
+    std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
+    std::atomic<bool> cancelled{false};
+    // Allocation: pixels take the samples of their own count (core/frame/adaptive.h), in a pilot pass under the pilot
+    // seed into the pilot film, otherwise into the main film; without it, the pass's index into m_film.
+    const bool own_index = m_adaptive.allocate;
+    const bool pilot = own_index && is_pilot_pass(m_stats.spp + 1);
+    if (own_index) m_mask.prepare_pass(pilot, m_main_passes + 1);
+    Film& film = !own_index ? m_film : pilot ? m_pilot : m_main;
+    const uint32_t seed = pilot ? pilot_seed(m_settings.seed) : m_settings.seed;
+    const uint8_t* active = m_adaptive.masks() ? m_mask.mask().data() : nullptr;  // nothing: every pixel
+    const int in_flight = m_paths_in_flight;
+    const PixelRect region = m_region;
+
+    const char fork_edge = 0, join_edge = 0;  // addresses for TSan's happens-before edges (core/base/tsan.h)
+    tsan_release(&fork_edge);
+    m_pool->arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 1), [&](const tbb::blocked_range<int>& r) {
+            const TsanTaskScope tsan_scope(&fork_edge, &join_edge);
+            enable_ftz_daz();
+            // The paths in flight (PathWalker), each with its own sampler (Sampler::start resets it per sample).
+            struct Slot {
+                PathWalker walker;
+                Sampler sampler;
+                int x = 0, y = 0;
+                uint32_t sample = 0;
+                bool busy = false;
+            };
+            Slot slots[kMaxPathsInFlight];
+            for (int i = 0; i < in_flight; ++i) slots[i].sampler = Sampler(seed, m_settings.sampler);
+            for (int tile = r.begin(); tile != r.end(); ++tile) {
+                if (cancel && cancel->load(std::memory_order_relaxed)) {
+                    cancelled.store(true, std::memory_order_relaxed);
+                    return;
+                }
+                TileTotals& tt = totals[size_t(tile)];
+                // The tile clipped to the region (the whole image without one: the tiles as they always were).
+                const int x0 = std::max((tile % tiles_x) * kTile, region.x0);
+                const int y0 = std::max((tile / tiles_x) * kTile, region.y0);
+                const int x1 = std::min({(tile % tiles_x) * kTile + kTile, w, region.x1});
+                const int y1 = std::min({(tile / tiles_x) * kTile + kTile, h, region.y1});
+                if (x1 <= x0 || y1 <= y0) continue;
+                const int tile_w = x1 - x0, tile_pixels = tile_w * (y1 - y0);
+                // The tile's pixels in scan order, each path in one of `in_flight` slots, the slots advanced in turn
+                // (PathWalker::step) and each refilled with the next pixel as its path ends. A pixel takes one
+                // sample per pass, so its film sums see the same values in the same order whatever the interleaving.
+                int next = 0;
+                auto start_next = [&](Slot& s) {
+                    while (next < tile_pixels) {
+                        const int x = x0 + next % tile_w, y = y0 + next / tile_w;
+                        ++next;
+                        if (active && !active[size_t(y) * size_t(w) + size_t(x)]) continue;
+                        film.prefetch(x, y);
+                        s.x = x;
+                        s.y = y;
+                        s.sample = !own_index ? index
+                                   : pilot    ? m_first_sample + m_mask.pilot_index(x, y)++
+                                              : m_first_sample + m_mask.next_index(x, y)++;
+                        s.walker.start(ts, m_settings, camera_ray(m_camera, s.sampler, x, y, s.sample), s.sampler);
+                        return s.busy = true;
+                    }
+                    return s.busy = false;
+                };
+                int busy = 0;
+                for (int i = 0; i < in_flight; ++i) busy += start_next(slots[i]) ? 1 : 0;
+                while (busy > 0)
+                    for (int i = 0; i < in_flight; ++i) {
+                        Slot& s = slots[i];
+                        if (!s.busy || s.walker.step()) continue;
+                        const PathCounters& c = s.walker.counters();
+                        tt.counters += c;
+                        if (pilot) m_mask.add_rays(s.x, s.y, c.rays + c.shadow_rays);
+                        if (!film.add(s.x, s.y, s.sample, s.walker.radiance())) tt.dropped++;
+                        if (!start_next(s)) --busy;
+                    }
+            }
+        });
+    });
+    tsan_acquire(&join_edge);
+    if (cancelled.load()) return false;
+
+    for (const TileTotals& tt : totals) {
+        m_stats.rays += tt.counters.rays;
+        m_stats.shadow_rays += tt.counters.shadow_rays;
+        m_stats.paths += tt.counters.paths;
+        m_stats.vertices += tt.counters.vertices;
+        m_stats.dropped += tt.dropped;
+    }
+    m_stats.spp++;
+    m_next_sample++;
+    if (own_index) {
+        if (pilot)
+            m_mask.update_weights(m_pilot, m_adaptive);
+        else
+            ++m_main_passes;
+        m_mask.combine(m_pilot, m_main, m_film);
+    }
+    m_mask.update(m_film, m_stats.spp, m_adaptive);
+    m_stats.last_pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    m_stats.seconds += m_stats.last_pass_seconds;
+    return true;
+}
+
+Metadata render_metadata(const Renderer& r) {
+    const RenderStats& st = r.stats();
+    const CameraDesc& c = r.camera().desc();
+    auto v3 = [](vec3 v) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%.9g,%.9g,%.9g", v.x, v.y, v.z);
+        return std::string(buf);
+    };
+    Metadata m;
+    m["pathview:spp"] = std::to_string(st.spp);
+    m["pathview:seconds"] = std::to_string(st.seconds);
+    m["pathview:settings"] = r.settings_as_rendered().describe();
+    m["pathview:camera"] = "--eye " + v3(c.eye) + " --target " + v3(c.target) + " --up " + v3(c.up) + " --fov " +
+                           std::to_string(c.vfov_deg) + " --aperture " + std::to_string(c.aperture) +
+                           " --focus-distance " + std::to_string(c.focus_distance);
+    m["pathview:dropped_samples"] = std::to_string(st.dropped);
+    // The film's reference-free relMSE estimate of the mean image (even/odd half buffers, eps 0.01).
+    char est[32];
+    std::snprintf(est, sizeof est, "%.6g", r.film().estimated_rel_mse());
+    m["pathview:est_relmse"] = est;
+    m["pathview:rays"] = std::to_string(st.rays + st.shadow_rays);
+    m["pathview:scene"] = r.scene().source;
+    m["pathview:threads"] = std::to_string(r.threads());
+    if (r.has_region()) m["pathview:region"] = format_region(r.region());
+    if (r.adaptive_settings().enabled()) {
+        m["pathview:noise_threshold"] = std::to_string(r.adaptive_settings().noise_threshold);
+        m["pathview:min_spp"] = std::to_string(r.adaptive_settings().min_spp);
+        m["pathview:active_fraction"] = std::to_string(r.adaptive_mask().active_fraction());
+    }
+    if (r.adaptive_settings().allocate) {
+        m["pathview:adaptive"] = "on";
+        m["pathview:min_spp"] = std::to_string(r.adaptive_settings().min_spp);
+        m["pathview:mean_spp"] = std::to_string(r.film().mean_count());
+    }
+    return m;
+}
+
+std::string format_region(const PixelRect& r) {
+    return std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) + "," + std::to_string(r.y1);
+}
+
+PixelRect parse_region(const std::string& text, int width, int height, const std::string& what) {
+    const std::string shown = what + " " + quote_prefix(text);
+    int v[4] = {0, 0, 0, 0};
+    size_t pos = 0;
+    for (int i = 0; i < 4; ++i) {
+        const size_t end = i < 3 ? text.find(',', pos) : text.size();
+        if (end == std::string::npos) throw Error(shown + ": expected x0,y0,x1,y1 (four integers)");
+        const std::optional<uint64_t> n = parse_decimal(text.substr(pos, end - pos), 1u << 30);
+        if (!n) throw Error(shown + ": expected x0,y0,x1,y1 (four non-negative integers)");
+        v[i] = int(*n);
+        pos = end + 1;
+    }
+    const PixelRect r{v[0], v[1], v[2], v[3]};
+    if (r.empty()) throw Error(shown + ": the region is empty (it needs x0 < x1 and y0 < y1; x1 and y1 are excluded)");
+    if (r.x1 > width || r.y1 > height)
+        throw Error(shown + ": the region is not inside the " + std::to_string(width) + "x" + std::to_string(height) +
+                    " image (x1 <= width, y1 <= height)");
+    return r;
+}
+
+std::string format_si(double value) {
+    const char* units[] = {"", " k", " M", " G", " T"};
+    int u = 0;
+    while (std::fabs(value) >= 1000.0 && u < 4) {
+        value /= 1000.0;
+        ++u;
+    }
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g%s", value, units[u]);
+    return buf;
+}
+
+}  // namespace pv

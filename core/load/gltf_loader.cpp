@@ -1,0 +1,551 @@
+// core/load/gltf_loader.cpp: glTF 2.0 through tinygltf (see gltf_loader.h). A pre-pass over the JSON checks what
+// tinygltf would read unchecked or report without a JSON path (required extensions, the buffers' sources and
+// sizes, a .glb's chunk layout); tinygltf then parses, with pathview's own file reading and image decoding; the
+// conversion reads every accessor through bounds-checked views. Materials and cameras: core/load/gltf_materials.cpp.
+#include "core/load/gltf_loader.h"
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "core/base/error.h"
+#include "core/base/file_io.h"
+#include "core/load/gltf_internal.h"
+
+namespace pv {
+namespace gltf_detail {
+namespace {
+
+using nlohmann::json;
+
+// %XX decoding of a relative URI (glTF URIs are percent-encoded).
+std::string uri_decode(const std::string& uri) {
+    std::string out;
+    for (size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+            std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
+            out += static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
+// The bytes a base64 data URI decodes to (an upper bound when the text has stray characters); -1 if not base64.
+int64_t data_uri_bytes(const std::string& uri) {
+    const size_t comma = uri.find(',');
+    if (comma == std::string::npos || uri.compare(0, 5, "data:") != 0) return -1;
+    if (uri.rfind(";base64", comma) == std::string::npos) return -1;
+    size_t n = uri.size() - comma - 1, pad = 0;
+    for (size_t i = uri.size(); i > comma + 1 && uri[i - 1] == '='; --i) ++pad;
+    return int64_t(n / 4 * 3) - int64_t(std::min<size_t>(pad, 2));
+}
+
+// The layout of a .glb: its JSON chunk and its BIN chunk (empty when absent), checked completely (tinygltf 2.7
+// lets a BIN chunk's declared length reach 8 bytes past the file).
+struct Glb {
+    std::string_view json_text;
+    uint64_t bin_size = 0;
+    bool has_bin = false;
+};
+
+uint32_t le32(const std::string& b, size_t at) {
+    uint32_t v = 0;
+    std::memcpy(&v, b.data() + at, 4);
+    return v;
+}
+
+Glb parse_glb(const std::string& bytes, const std::string& file) {
+    if (bytes.size() < 20)
+        throw Error(file + ": truncated .glb: " + str(bytes.size()) + " bytes; a binary glTF has at least 20");
+    const uint32_t version = le32(bytes, 4), length = le32(bytes, 8);
+    const uint32_t json_length = le32(bytes, 12), json_type = le32(bytes, 16);
+    if (version != 2) throw Error(file + ": binary glTF version " + str(version) + "; expected 2");
+    if (length > bytes.size())
+        throw Error(file + ": truncated .glb: the header declares " + str(length) + " bytes, the file has " +
+                    str(bytes.size()));
+    if (json_length % 4 != 0)
+        throw Error(file + ": .glb: the JSON chunk's length " + str(json_length) + " is not a multiple of 4");
+    if (json_type != 0x4E4F534Au) throw Error(file + ": .glb: the first chunk is not JSON");
+    if (json_length == 0 || 20ull + json_length > length)
+        throw Error(file + ": truncated .glb: the JSON chunk declares " + str(json_length) + " bytes, " +
+                    str(length >= 20 ? length - 20 : 0) + " follow the header");
+    Glb g;
+    g.json_text = std::string_view(bytes.data() + 20, json_length);
+    const uint64_t bin_at = 20ull + json_length;
+    if (bin_at + 8 <= length) {
+        const uint32_t bin_length = le32(bytes, size_t(bin_at)), bin_type = le32(bytes, size_t(bin_at + 4));
+        if (bin_type == 0x004E4942u) {
+            if (bin_at + 8 + bin_length > length)
+                throw Error(file + ": truncated .glb: the BIN chunk declares " + str(bin_length) + " bytes, " +
+                            str(length - bin_at - 8) + " remain");
+            g.bin_size = bin_length;
+            g.has_bin = true;
+        }
+    }
+    return g;
+}
+
+// tinygltf's file system: regular files of bounded size only, no path expansion.
+struct FileAccess {
+    std::string error;  // the last failure, for the message
+};
+bool fs_exists(const std::string& path, void*) {
+    std::error_code ec;
+    return std::filesystem::is_regular_file(path, ec);
+}
+std::string fs_expand(const std::string& path, void*) { return path; }
+bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    try {
+        const std::string bytes = read_regular_file(path, kMaxGltfBytes, "a glTF buffer or image");
+        out->assign(bytes.begin(), bytes.end());
+        return true;
+    } catch (const Error& e) {
+        if (err) *err += e.what();
+        static_cast<FileAccess*>(user)->error = e.what();
+        return false;
+    }
+}
+bool fs_write(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
+
+}  // namespace
+
+// ---- Traversal: the default scene's nodes, depth first, each with its world transform. ----
+
+void Loader::traverse(int scene_index) {
+    struct Item {
+        int node;
+        dmat4 parent;
+        std::string at;  // the JSON path that referred to the node
+        bool exit;
+    };
+    std::vector<uint8_t> on_path(model.nodes.size(), 0);
+    std::vector<Item> stack;
+    const auto& roots = model.scenes[size_t(scene_index)].nodes;
+    for (size_t i = roots.size(); i-- > 0;)
+        stack.push_back({roots[i], dmat4(1.0), ptr({"scenes", str(size_t(scene_index)), "nodes", str(i)}), false});
+    while (!stack.empty()) {
+        Item it = std::move(stack.back());
+        stack.pop_back();
+        if (it.exit) {
+            on_path[size_t(it.node)] = 0;
+            continue;
+        }
+        if (it.node < 0 || size_t(it.node) >= model.nodes.size())
+            fail(it.at, "node " + std::to_string(it.node) + " does not exist; the file has " + str(model.nodes.size()));
+        const size_t n = size_t(it.node);
+        if (on_path[n]) fail(it.at, "node " + str(n) + " is its own ancestor (a cycle in the node hierarchy)");
+        if (++visits > kMaxNodeVisits)
+            fail(it.at, "more than " + str(kMaxNodeVisits) + " node instances (nodes referenced more than once)");
+        const tinygltf::Node& node = model.nodes[n];
+        const dmat4 world = it.parent * local_transform(node, n);
+        on_path[n] = 1;
+        stack.push_back({it.node, dmat4(1.0), std::string(), true});
+        for (size_t c = node.children.size(); c-- > 0;)
+            stack.push_back({node.children[c], world, ptr({"nodes", str(n), "children", str(c)}), false});
+        if (node.mesh >= 0) add_mesh(node.mesh, world, ptr({"nodes", str(n), "mesh"}));
+        if (node.camera >= 0) {
+            if (size_t(node.camera) >= model.cameras.size())
+                fail(ptr({"nodes", str(n), "camera"}), "camera " + std::to_string(node.camera) + " does not exist");
+            cameras.push_back({node.camera, it.node, world});
+        }
+        if (const tinygltf::Value* l = extension(node.extensions, "KHR_lights_punctual"))
+            add_light(int(value_number(*l, "light", -1.0)), world,
+                      ptr({"nodes", str(n), "extensions", "KHR_lights_punctual", "light"}));
+    }
+}
+
+void Loader::add_light(int light, const dmat4& world, const std::string& at) {
+    if (light < 0 || size_t(light) >= model.lights.size())
+        fail(at, "light " + std::to_string(light) + " does not exist; the file has " + str(model.lights.size()));
+    const tinygltf::Light& l = model.lights[size_t(light)];
+    PunctualLight p;
+    p.name = l.name;
+    if (l.type == "point") {
+        p.type = PunctualLight::Type::Point;
+    } else if (l.type == "spot") {
+        p.type = PunctualLight::Type::Spot;
+    } else if (l.type == "directional") {
+        p.type = PunctualLight::Type::Directional;
+    } else {
+        warn_once("light type " + l.type, ptr({"extensions", "KHR_lights_punctual", "lights", str(size_t(light))}) +
+                                              ": unknown light type '" + l.type + "'; light ignored");
+        return;
+    }
+    p.position = vec3(world * dvec4(0.0, 0.0, 0.0, 1.0));
+    const dvec3 d = dmat3(world) * dvec3(0.0, 0.0, -1.0);
+    const double len = glm::length(d);
+    if (!(len > 0.0) || !std::isfinite(len) || !is_finite(p.position)) {
+        warn_once("light transform", at + ": a light's transform is degenerate; light ignored");
+        return;
+    }
+    p.direction = vec3(d / len);
+    vec3 color(1.f);
+    if (l.color.size() == 3)
+        color = vec3(finite_or(l.color[0], 0.f), finite_or(l.color[1], 0.f), finite_or(l.color[2], 0.f));
+    p.intensity = glm::max(color * finite_or(l.intensity, 0.f), vec3(0.f));
+    p.range = l.range > 0.0 && std::isfinite(l.range) ? float(l.range) : 0.f;
+    p.outer_cone_rad = glm::clamp(finite_or(l.spot.outerConeAngle, 0.7853981634f), 0.f, 1.5707963268f);
+    p.inner_cone_rad = glm::clamp(finite_or(l.spot.innerConeAngle, 0.f), 0.f, p.outer_cone_rad);
+    scene->punctual_lights.push_back(p);
+}
+
+// ---- Meshes ----
+
+void Loader::add_mesh(int mesh_index, const dmat4& world, const std::string& ref_at) {
+    if (mesh_index < 0 || size_t(mesh_index) >= model.meshes.size())
+        fail(ref_at,
+             "mesh " + std::to_string(mesh_index) + " does not exist; the file has " + str(model.meshes.size()));
+    Scene& s = *scene;
+    const tinygltf::Mesh& mesh = model.meshes[size_t(mesh_index)];
+    const dmat3 m3(world);
+    const double det = glm::determinant(m3);
+    const dmat3 normal_matrix = glm::transpose(glm::inverse(m3));
+    const bool flip = det < 0.0;
+    for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
+        const tinygltf::Primitive& prim = mesh.primitives[pi];
+        const std::string at = ptr({"meshes", str(size_t(mesh_index)), "primitives", str(pi)});
+        const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+        if (mode <= TINYGLTF_MODE_LINE_STRIP) {
+            ++skipped_points_lines;
+            continue;
+        }
+        if (mode > TINYGLTF_MODE_TRIANGLE_FAN) fail(at + "/mode", "mode " + std::to_string(mode) + "; expected 0..6");
+        const auto pos_it = prim.attributes.find("POSITION");
+        if (pos_it == prim.attributes.end()) {
+            warn_once("no POSITION", at + ": a primitive without POSITION; skipped");
+            continue;
+        }
+        int comps = 0;
+        const std::vector<float> pos =
+            read_floats(pos_it->second, at + "/attributes/POSITION", {TINYGLTF_TYPE_VEC3}, comps);
+        const size_t nv = pos.size() / 3;
+        auto attribute = [&](const char* name, std::initializer_list<int> types, int& c) -> std::vector<float> {
+            const auto it = prim.attributes.find(name);
+            if (it == prim.attributes.end()) return {};
+            std::vector<float> v = read_floats(it->second, at + "/attributes/" + name, types, c);
+            if (v.size() / size_t(c) != nv)
+                fail(at + "/attributes/" + name,
+                     "count " + str(v.size() / size_t(c)) + " differs from POSITION's " + str(nv));
+            return v;
+        };
+        int nc = 0, tc0 = 0, tc1 = 0, cc = 0;
+        const std::vector<float> nrm = attribute("NORMAL", {TINYGLTF_TYPE_VEC3}, nc);
+        const std::vector<float> uv0 = attribute("TEXCOORD_0", {TINYGLTF_TYPE_VEC2}, tc0);
+        const std::vector<float> uv1 = attribute("TEXCOORD_1", {TINYGLTF_TYPE_VEC2}, tc1);
+        const std::vector<float> col = attribute("COLOR_0", {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4}, cc);
+        // Only a primitive whose colours are not all white stores them (an all-white COLOR_0 multiplies by 1).
+        bool colored = false;
+        for (size_t i = 0; i < col.size(); ++i)
+            if ((cc == 3 || i % 4 != 3) && col[i] != 1.f) colored = true;
+
+        std::vector<uint32_t> idx;
+        if (prim.indices >= 0) {
+            idx = read_indices(prim.indices, at + "/indices", nv);
+        } else {
+            idx.resize(nv);
+            for (size_t i = 0; i < nv; ++i) idx[i] = uint32_t(i);
+        }
+        // Triangles of the primitive (vertex numbers local to it), strips and fans as the specification orders them.
+        std::vector<uvec3> tris;
+        if (mode == TINYGLTF_MODE_TRIANGLES) {
+            for (size_t i = 0; i + 2 < idx.size(); i += 3) tris.push_back(uvec3(idx[i], idx[i + 1], idx[i + 2]));
+        } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            for (size_t i = 0; i + 2 < idx.size(); ++i)
+                tris.push_back(i % 2 == 0 ? uvec3(idx[i], idx[i + 1], idx[i + 2])
+                                          : uvec3(idx[i + 1], idx[i], idx[i + 2]));
+        } else {
+            for (size_t i = 1; i + 1 < idx.size(); ++i) tris.push_back(uvec3(idx[i], idx[i + 1], idx[0]));
+        }
+        if (s.triangles.size() + tris.size() > budget || s.positions.size() + nv > budget)
+            fail(at, "the scene would exceed " + str(budget) + " vertices or triangles (a mesh instanced by " +
+                         str(visits) + " node visits; the limit is 16 per byte of the file's buffers, at least 2^22)");
+
+        const uint32_t material = material_index(prim.material, at + "/material");
+        const UvTransform& buv = prim.material >= 0 && size_t(prim.material) < base_uv.size()
+                                     ? base_uv[size_t(prim.material)]
+                                     : UvTransform{};
+        // Vertices: world positions, normals by the inverse transpose, uvs flipped to pathview's v-up convention
+        // (set 0 through the base colour texture's transform).
+        const uint32_t p0 = uint32_t(s.positions.size());
+        std::vector<uint8_t> bad(nv, 0);
+        for (size_t i = 0; i < nv; ++i) {
+            const vec3 p = vec3(world * dvec4(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2], 1.0));
+            const bool b = !is_finite(p) || max_component(glm::abs(p)) > kMaxCoordinate;
+            bad[i] = b;
+            s.positions.push_back(b ? vec3(0.f) : p);
+        }
+        const uint32_t n0 = uint32_t(s.normals.size());
+        std::vector<uint8_t> bad_n(nrm.empty() ? 0 : nv, 0);
+        for (size_t i = 0; i < nrm.size() / 3; ++i) {
+            const dvec3 n = normal_matrix * dvec3(nrm[3 * i], nrm[3 * i + 1], nrm[3 * i + 2]);
+            const double l = glm::length(n);
+            bad_n[i] = !(l > 1e-20) || !std::isfinite(l);
+            s.normals.push_back(bad_n[i] ? vec3(0.f, 0.f, 1.f) : vec3(n / l));
+        }
+        const std::vector<float>& set0 = buv.set == 1 ? uv1 : uv0;
+        const uint32_t t0 = uint32_t(s.uvs.size()), t1 = uint32_t(s.uvs1.size());
+        for (size_t i = 0; i < set0.size() / 2; ++i) {
+            const vec2 uv = buv.apply(vec2(set0[2 * i], set0[2 * i + 1]));
+            s.uvs.push_back(vec2(uv.x, 1.f - uv.y));
+        }
+        for (size_t i = 0; i < uv1.size() / 2; ++i) s.uvs1.push_back(vec2(uv1[2 * i], 1.f - uv1[2 * i + 1]));
+        // Tangents (glTF TANGENT) only for a normal-mapped material: directions by the linear part, the handedness
+        // w negated by a mirroring transform.
+        int tgc = 0;
+        const bool normal_mapped = material < s.materials.size() && s.materials[material].normal_texture != kNoIndex;
+        const std::vector<float> tan =
+            normal_mapped ? attribute("TANGENT", {TINYGLTF_TYPE_VEC4}, tgc) : std::vector<float>{};
+        const uint32_t g0 = uint32_t(s.tangents.size());
+        std::vector<uint8_t> bad_t(tan.empty() ? 0 : nv, 0);
+        for (size_t i = 0; i < tan.size() / 4; ++i) {
+            const dvec3 t = m3 * dvec3(tan[4 * i], tan[4 * i + 1], tan[4 * i + 2]);
+            const double l = glm::length(t);
+            bad_t[i] = !(l > 1e-20) || !std::isfinite(l);
+            const float w = (tan[4 * i + 3] < 0.f) != flip ? -1.f : 1.f;
+            s.tangents.push_back(bad_t[i] ? vec4(1.f, 0.f, 0.f, 1.f) : vec4(vec3(t / l), w));
+        }
+        const uint32_t c0 = uint32_t(s.colors.size());
+        if (colored)
+            for (size_t i = 0; i < nv; ++i) {  // RGB (a VEC4's alpha is not used), clamped to [0, 1]
+                const float* c = &col[size_t(cc) * i];
+                s.colors.push_back(glm::clamp(vec3(finite_or(c[0], 1.f), finite_or(c[1], 1.f), finite_or(c[2], 1.f)),
+                                              vec3(0.f), vec3(1.f)));
+            }
+
+        for (uvec3 t : tris) {
+            if (bad[t.x] || bad[t.y] || bad[t.z]) {
+                ++dropped_nonfinite;
+                continue;
+            }
+            if (flip) std::swap(t.y, t.z);  // a mirroring transform turns counter-clockwise faces clockwise
+            const vec3 a = s.positions[p0 + t.x], b = s.positions[p0 + t.y], c = s.positions[p0 + t.z];
+            const float area2 = glm::length(glm::cross(b - a, c - a));
+            if (!(area2 > 0.f) || !std::isfinite(area2)) {
+                ++dropped_degenerate;
+                continue;
+            }
+            s.triangles.push_back(uvec3(p0) + t);
+            s.material_ids.push_back(material);
+            const bool normals_ok = !nrm.empty() && !bad_n[t.x] && !bad_n[t.y] && !bad_n[t.z];
+            s.normal_indices.push_back(normals_ok ? uvec3(n0) + t : uvec3(kNoIndex));
+            s.uv_indices.push_back(set0.empty() ? uvec3(kNoIndex) : uvec3(t0) + t);
+            s.uv1_indices.push_back(uv1.empty() ? uvec3(kNoIndex) : uvec3(t1) + t);
+            s.color_indices.push_back(colored ? uvec3(c0) + t : uvec3(kNoIndex));
+            const bool tangents_ok = !tan.empty() && !bad_t[t.x] && !bad_t[t.y] && !bad_t[t.z];
+            s.tangent_indices.push_back(tangents_ok ? uvec3(g0) + t : uvec3(kNoIndex));
+        }
+    }
+}
+
+void Loader::check_extensions() {
+    for (const std::string& e : model.extensionsUsed)
+        if (!supported_extension(e)) warn_once("ext " + e, "extension '" + e + "' is used but not supported; ignored");
+}
+
+namespace {
+
+// The checks before tinygltf: required extensions, each buffer's source and declared size (a missing file, a size
+// that the file, data URI or BIN chunk does not hold), with JSON paths.
+void precheck(const std::string_view json_text, const std::string& file, const std::string& dir, const Glb* glb) {
+    const json j = json::parse(json_text.begin(), json_text.end(), nullptr, false);
+    if (j.is_discarded()) throw Error(file + ": invalid JSON");
+    if (!j.is_object()) throw Error(file + ": /: expected a JSON object");
+    if (j.contains("extensionsRequired") && j["extensionsRequired"].is_array()) {
+        const json& req = j["extensionsRequired"];
+        for (size_t i = 0; i < req.size(); ++i)
+            if (req[i].is_string() && !supported_extension(req[i].get<std::string>()))
+                throw Error(file + ": /extensionsRequired/" + str(i) + ": the file requires extension '" +
+                            req[i].get<std::string>() + "', which pathview does not support");
+    }
+    if (!j.contains("buffers")) return;
+    const json& buffers = j["buffers"];
+    if (!buffers.is_array()) throw Error(file + ": /buffers: expected an array");
+    for (size_t i = 0; i < buffers.size(); ++i) {
+        const std::string at = "/buffers/" + str(i);
+        const json& b = buffers[i];
+        if (!b.is_object()) throw Error(file + ": " + at + ": expected an object");
+        if (!b.contains("byteLength") || !b["byteLength"].is_number_unsigned())
+            throw Error(file + ": " + at + "/byteLength: expected a non-negative integer");
+        const uint64_t declared = b["byteLength"].get<uint64_t>();
+        auto too_big = [&](const std::string& where, uint64_t has) {
+            throw Error(file + ": " + at + "/byteLength: declares " + str(declared) + " bytes, but " + where +
+                        " holds " + str(has));
+        };
+        if (!b.contains("uri")) {
+            if (!glb || i != 0) throw Error(file + ": " + at + "/uri: missing; only a .glb's first buffer may omit it");
+            if (!glb->has_bin) throw Error(file + ": " + at + ": the .glb has no BIN chunk for this buffer");
+            if (declared > glb->bin_size) too_big("the BIN chunk", glb->bin_size);
+            continue;
+        }
+        if (!b["uri"].is_string()) throw Error(file + ": " + at + "/uri: expected a string");
+        const std::string uri = b["uri"].get<std::string>();
+        if (uri.compare(0, 5, "data:") == 0) {
+            const int64_t n = data_uri_bytes(uri);
+            if (n < 0) throw Error(file + ": " + at + "/uri: a data URI that is not base64");
+            if (uint64_t(n) < declared) too_big("its data URI", uint64_t(n));
+            continue;
+        }
+        const std::string path = (std::filesystem::path(dir) / uri_decode(uri)).string();
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec))
+            throw Error(file + ": " + at + "/uri: '" + uri + "' not found (looked for " + path + ")");
+        const uint64_t size = regular_file_size(path, "a glTF buffer (.bin)");
+        if (size != declared)
+            throw Error(file + ": " + at + "/byteLength: declares " + str(declared) + " bytes, but '" + uri + "' has " +
+                        str(size));
+    }
+}
+
+// tinygltf's messages on one line: its lines joined, cut at 300 characters.
+std::string one_line(std::string s) {
+    while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ')) s.pop_back();
+    for (char& c : s)
+        if (c == '\n' || c == '\r') c = ';';
+    if (s.size() > 300) s = s.substr(0, 300) + "...";
+    return s;
+}
+
+struct ImageContext {
+    Loader* loader;
+};
+
+bool decode_image(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
+                  const unsigned char* bytes, int size, void* user) {
+    Loader& L = *static_cast<ImageContext*>(user)->loader;
+    const std::string at = ptr({"images", std::to_string(index)});
+    if (image->bufferView >= 0) {
+        // tinygltf hands over &buffer[view.byteOffset] for view.byteLength bytes without checking either: check
+        // that the view lies in its buffer before a byte is read.
+        const auto& views = L.model.bufferViews;
+        bool ok = size_t(image->bufferView) < views.size();
+        if (ok) {
+            const tinygltf::BufferView& bv = views[size_t(image->bufferView)];
+            ok = bv.buffer >= 0 && size_t(bv.buffer) < L.model.buffers.size();
+            if (ok) {
+                const uint64_t n = L.model.buffers[size_t(bv.buffer)].data.size();
+                ok = bv.byteOffset <= n && bv.byteLength <= n - bv.byteOffset;
+            }
+        }
+        if (!ok) {
+            if (err) *err += at + "/bufferView: the image's bytes lie outside its buffer";
+            return false;
+        }
+    }
+    if (!bytes || size <= 0) {
+        L.warnings.push_back(L.file + ": " + at + ": no image data; flat colour used");
+        return true;
+    }
+    try {
+        L.images[index] = Texture::decode(std::string(reinterpret_cast<const char*>(bytes), size_t(size)),
+                                          L.file + ": " + at + (image->uri.empty() ? "" : " (" + image->uri + ")"),
+                                          false, &L.warnings);
+    } catch (const Error& e) {
+        L.warnings.push_back(std::string(e.what()) + "; flat colour used");
+    }
+    return true;
+}
+
+Scene load(const std::string& bytes, const std::string& file) {
+    std::string dir = std::filesystem::path(file).parent_path().string();
+    if (dir.empty()) dir = ".";
+    const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
+    std::string ext = std::filesystem::path(file).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (!binary && ext == ".glb") {
+        std::string magic;
+        for (size_t i = 0; i < std::min<size_t>(4, bytes.size()); ++i)
+            magic += std::isprint(static_cast<unsigned char>(bytes[i])) ? bytes[i] : '?';
+        throw Error(file + ": not a binary glTF: it starts with '" + magic + "'; expected the magic 'glTF'");
+    }
+    if (bytes.size() > kMaxGltfBytes) throw Error(file + ": larger than 2 GiB; expected a glTF file");
+    Glb glb;
+    if (binary) glb = parse_glb(bytes, file);
+    precheck(binary ? glb.json_text : std::string_view(bytes), file, dir, binary ? &glb : nullptr);
+
+    Scene scene;
+    scene.source = file;
+    Loader L(file, scene);
+    tinygltf::TinyGLTF gltf;
+    FileAccess access;
+    gltf.SetFsCallbacks(tinygltf::FsCallbacks{fs_exists, fs_expand, fs_read, fs_write, &access});
+    ImageContext images{&L};
+    gltf.SetImageLoader(decode_image, &images);
+    std::string err, warn;
+    bool ok = false;
+    try {
+        if (binary)
+            ok = gltf.LoadBinaryFromMemory(&L.model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                           static_cast<unsigned int>(bytes.size()), dir);
+        else
+            ok = gltf.LoadASCIIFromString(&L.model, &err, &warn, bytes.data(), static_cast<unsigned int>(bytes.size()),
+                                          dir);
+    } catch (const std::exception& e) {
+        throw Error(file + ": cannot parse glTF: " + one_line(e.what()));
+    }
+    if (!ok) throw Error(file + ": cannot parse glTF: " + one_line(err.empty() ? "unknown error" : err));
+    if (!warn.empty()) scene.warnings.push_back(file + ": " + one_line(warn));
+    L.check_extensions();
+
+    uint64_t buffer_bytes = 0;
+    for (const auto& b : L.model.buffers) buffer_bytes += b.data.size();
+    L.budget = size_t(
+        std::min<uint64_t>(kMaxTriangles, std::max<uint64_t>(kMinInstancingBudget, kInstancingPerByte * buffer_bytes)));
+    L.convert_materials();
+    if (!L.model.scenes.empty()) {
+        int si = L.model.defaultScene;
+        if (si < 0 || size_t(si) >= L.model.scenes.size()) si = 0;
+        L.traverse(si);
+    } else if (!L.model.nodes.empty()) {
+        scene.warnings.push_back(file + ": the file has no scene; nothing to show");
+    }
+    if (L.skipped_points_lines)
+        scene.warnings.push_back(file + ": " + str(L.skipped_points_lines) +
+                                 " point or line primitive(s) skipped (triangles only)");
+    if (L.dropped_nonfinite)
+        scene.warnings.push_back(file + ": " + str(L.dropped_nonfinite) +
+                                 " triangle(s) with non-finite or absurd (> 1e18) vertices dropped");
+    if (L.dropped_degenerate)
+        scene.warnings.push_back(file + ": " + str(L.dropped_degenerate) + " zero-area triangle(s) dropped");
+    scene.stats.dropped_nonfinite = L.dropped_nonfinite;
+    scene.stats.dropped_degenerate = L.dropped_degenerate;
+    // Per-triangle arrays all-absent are dropped (the scene then pays nothing for them).
+    auto all_absent = [](const std::vector<uvec3>& v) {
+        return std::all_of(v.begin(), v.end(), [](const uvec3& t) { return t.x == kNoIndex; });
+    };
+    if (all_absent(scene.normal_indices)) scene.normal_indices.clear(), scene.normals.clear();
+    if (all_absent(scene.uv_indices)) scene.uv_indices.clear(), scene.uvs.clear();
+    if (all_absent(scene.uv1_indices)) scene.uv1_indices.clear(), scene.uvs1.clear();
+    if (all_absent(scene.color_indices)) scene.color_indices.clear(), scene.colors.clear();
+    if (all_absent(scene.tangent_indices)) scene.tangent_indices.clear(), scene.tangents.clear();
+    if (scene.triangles.empty()) scene.warnings.push_back(file + ": the scene has no triangles");
+    L.convert_cameras();
+    if (!scene.has_camera) scene.camera = scene.framing_camera();
+    return scene;
+}
+
+}  // namespace
+}  // namespace gltf_detail
+
+bool is_gltf_path(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext == ".gltf" || ext == ".glb";
+}
+
+Scene load_gltf(const std::string& path) {
+    return gltf_detail::load(read_regular_file(path, gltf_detail::kMaxGltfBytes, "a glTF file"), path);
+}
+
+Scene load_gltf_from_memory(const std::string& bytes, const std::string& name) {
+    return gltf_detail::load(bytes, name);
+}
+
+}  // namespace pv

@@ -1,0 +1,330 @@
+// core/render/integrator.cpp: the path tracer (see integrator.h). Structure after pbrt-v4's PathIntegrator::Li.
+#include "core/render/integrator.h"
+
+#include "core/render/shading.h"
+
+namespace pv {
+
+namespace {
+// Power heuristic with beta = 2 (Veach 1997, sec. 9.2.4), written to stay finite for huge pdfs.
+inline float power_heuristic(float pa, float pb) {
+    if (!(pa > 0.f)) return 0.f;
+    if (std::isinf(pa)) return 1.f;
+    const float r = pb / pa;
+    return 1.f / (1.f + r * r);
+}
+
+// Weight of emission found by a BSDF-sampled ray when next-event estimation is on. With MIS, the power heuristic.
+// Without, light sampling alone counts an emitter, except one it can never pick (light pdf 0: an emitter whose
+// share of the power rounds to a selection probability of 0, or an unsampleable one): there the BSDF sample is
+// the only estimator, weight 1. The two weights of any direction still sum to 1, so both stay unbiased.
+inline float bsdf_hit_weight(bool mis, float bsdf_pdf, float light_pdf) {
+    if (mis) return power_heuristic(bsdf_pdf, light_pdf);
+    return light_pdf > 0.f ? 0.f : 1.f;
+}
+
+}  // namespace
+
+std::string RenderSettings::describe() const {
+    return std::string("nee=") + (light_sampling ? "on" : "off") + " mis=" + (mis ? "on" : "off") +
+           " rr=" + (russian_roulette ? "on" : "off") + " max_depth=" + std::to_string(max_depth) +
+           " seed=" + std::to_string(seed) + " sampler=" + sampler_name(sampler) +
+           (sky_guide == SkyGuideMode::On     ? " sky_guide=on"
+            : sky_guide == SkyGuideMode::Auto ? " sky_guide=auto"
+                                              : "") +
+           (light_sampler == LightSamplerKind::Tree ? " light_sampler=tree" : "");
+}
+
+void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler) {
+    m_ts = &ts;
+    m_settings = &settings;
+    m_sampler = &sampler;
+    // The hit data from the packed records (TriangleRecord) when the scene has them, else from its indexed arrays:
+    // two instantiations, so that neither carries the other's loads and branches per vertex.
+    m_step = ts.triangle_record(0) ? &PathWalker::step_with<true> : &PathWalker::step_with<false>;
+    m_stage = Stage::Trace;
+    m_nee = settings.light_sampling && ts.has_lights();
+    m_mis = m_nee && settings.mis;
+    m_select_draw = ts.light_selection_draw();  // false when the environment is the only light
+    // The environment the only light, sampled without portals or guide (what !select_draw means): its sample does
+    // not depend on the vertex, so it is drawn as soon as the ray has hit, while the hit triangle's record (just
+    // prefetched) is still on its way from memory. The Sobol sampler draws a dimension as a function of it alone, so
+    // drawing u_light for a vertex that then takes no light sample (a delta BSDF) changes nothing else; the
+    // independent sampler draws in stream order and keeps the draw where it was.
+    m_early_sky = m_nee && !m_select_draw && sampler.kind() == SamplerKind::Sobol;
+    m_ray = ray;
+    m_L = vec3(0.f);
+    m_beta = vec3(1.f);
+    m_specular_bounce = true;  // the camera "bounce" counts like a delta one: emission is always added
+    m_prev_pdf = 0.f;
+    m_prev_p = vec3(0.f);
+    m_prev_n = vec3(0.f);
+    m_eta_scale = 1.f;
+    m_absorbing = false;
+    m_depth = 0;
+    m_counters = PathCounters{};
+}
+
+// One vertex is three stages: Trace (the closest hit, then the hit record's prefetch: wait), Surface (the surface
+// point, emission found, the texels' prefetch: wait, when textured) and Scatter (light sample and shadow ray, BSDF
+// sample, roulette, the next ray), which goes on to the next vertex's Trace without waiting.
+template <bool kPacked>
+bool PathWalker::step_with() {
+    const TraceableScene& ts = *m_ts;
+    const Scene& scene = ts.scene();
+    const RenderSettings& settings = *m_settings;
+    Sampler& sampler = *m_sampler;
+    const bool nee = m_nee, mis = m_mis;
+    Hit& hit = m_hit;
+    for (;;) {
+        switch (m_stage) {
+            case Stage::Trace: {
+                ++m_counters.rays;
+                if (!ts.intersect(m_ray, hit)) {
+                    // The environment: weighted against its own light sampling, as for emissive triangles.
+                    if (!ts.environment_black()) {
+                        if (!nee || m_specular_bounce) {
+                            m_L += m_beta * ts.emitted_escape(m_ray.d);
+                        } else {
+                            float light_pdf = 0.f;
+                            const vec3 le = ts.emitted_escape_and_pdf(m_prev_p, m_ray.d, &light_pdf);
+                            m_L += m_beta * le * bsdf_hit_weight(mis, m_prev_pdf, light_pdf);
+                        }
+                    }
+                    return finish();
+                }
+                ++m_counters.vertices;
+                if (m_absorbing) [[unlikely]]
+                    m_beta *= glm::exp(-m_sigma * hit.t);  // Beer-Lambert inside a solid (m_ray.d is a unit vector)
+                // The hit triangle's vertices, uvs and material from its packed record (one cache line) when there is
+                // one.
+                m_record = kPacked ? ts.triangle_record(hit.prim) : nullptr;
+                prefetch_hit(scene, hit, m_record);
+                m_early = m_early_sky && m_depth < settings.max_depth;
+                m_early_found = false;
+                if (m_early) {
+                    m_early_dim = sampler.reserve(kBounceDims);
+                    m_early_u = sampler.get2d_at(m_early_dim + 1);
+                    m_early_found =
+                        ts.sample_light(vec3(0.f), vec3(0.f), 0.f, m_early_u, m_early_ls);  // the point is not used
+                }
+                m_stage = Stage::Surface;
+                return true;  // the record is on its way
+            }
+            case Stage::Surface: {
+                if constexpr (kPacked)
+                    m_sf = surface_point(scene, hit, *m_record);
+                else
+                    m_sf = surface_point(scene, hit);
+                m_mat = kPacked ? &ts.materials()[m_record->material()] : &ts.material(hit.prim);
+                const Material& mat = *m_mat;
+                // A normal map tilts the shading normal (materials without one skip this).
+                if (mat.normal_texture != kNoIndex) [[unlikely]]
+                    apply_normal_map(scene, mat, hit,
+                                     kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v),
+                                     -m_ray.d, m_sf);
+                m_front = glm::dot(-m_ray.d, m_sf.ng) > 0.f;
+                // Emission found by the BSDF-sampled ray; with NEE it is weighted so it is never counted twice.
+                if (TraceableScene::emits(mat, m_front)) {
+                    const vec3 le = emitted_at(scene, mat, hit.prim, hit.u, hit.v);
+                    if (!nee || m_specular_bounce)
+                        m_L += m_beta * le;
+                    else
+                        m_L += m_beta * le *
+                               bsdf_hit_weight(mis, m_prev_pdf,
+                                               ts.light_pdf_hit(hit.prim, m_prev_p, m_prev_n, m_sf.p, m_sf.ng));
+                }
+                if (m_depth >= settings.max_depth) return finish();
+                // Only textured materials pay for the texture lookup and a local copy of the BSDF. The lookup waits
+                // until the BSDF's value is needed (after the shadow ray is traced), its texels prefetched now: on
+                // large scenes their load is a cache miss, which then overlaps other paths' work and Embree's
+                // traversal.
+                m_tex = hit_textures(scene, mat, hit, [&] {
+                    return kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
+                });
+                m_stage = Stage::Scatter;
+                if (m_tex.base_color) {
+                    m_texels = m_tex.base_color->prefetch(m_tex.uv);
+                    return true;  // the texels are on their way
+                }
+                [[fallthrough]];
+            }
+            case Stage::Scatter: {
+                const Material& mat = *m_mat;
+                const SurfacePoint& sf = m_sf;
+                const vec3 wo_world = -m_ray.d;
+                // The BSDF changes per hit (a texture or vertex colours): it is built by shade() when first needed,
+                // as core/render/shading.h's hit_bsdf builds it for the AOV pass and the sky guide's training.
+                const bool per_hit = m_tex.per_hit();
+                const Bsdf* bsdf = &mat.bsdf;
+                std::optional<Bsdf> textured;
+                auto shade = [&]() -> const Bsdf& {
+                    if (per_hit && !textured) {
+                        textured.emplace(mat.bsdf);
+                        apply_hit_textures(*textured, m_tex,
+                                           m_tex.base_color ? m_tex.base_color->lookup(m_texels) : vec4(0.f));
+                        bsdf = &*textured;
+                    }
+                    return *bsdf;
+                };
+
+                // Shading frame (core/render/surface.h).
+                const auto [ng, ns] = shading_normals(sf, wo_world, m_front, mat.bsdf);
+                const Frame frame(ns);
+                const vec3 wo = frame.to_local(wo_world);
+
+                // This bounce's dimensions: light selection (+0), light point (+1), lobe (+2), direction (+3), roulette
+                // (+4).
+                const bool early = m_early;
+                const uint32_t dim = early ? m_early_dim : sampler.reserve(kBounceDims);
+                // Ray origins off the surface on each side of it, computed once when first needed (the shadow ray and
+                // the continuation usually leave on the same side).
+                vec3 origin[2];
+                bool have_origin[2] = {false, false};
+                auto origin_toward = [&](vec3 w) -> vec3 {
+                    const int side = glm::dot(w, sf.ng) > 0.f ? 0 : 1;
+                    if (!have_origin[side]) {
+                        origin[side] = offset_ray_origin(sf.p, side == 0 ? sf.ng : -sf.ng, sf.p_error);
+                        have_origin[side] = true;
+                    }
+                    return origin[side];
+                };
+
+                // The bounce's draws, taken together so that their independent hash chains overlap; only those the
+                // vertex uses (one-lobe BSDFs need no lobe draw, delta ones no light or direction draws), in dimension
+                // order.
+                const bool do_nee = nee && !is_delta(*bsdf);
+                const float u_light_select = do_nee && m_select_draw ? sampler.get1d_at(dim) : 0.f;
+                const vec2 u_light = do_nee ? (early ? m_early_u : sampler.get2d_at(dim + 1)) : vec2(0.f);
+                const bool one_lobe = std::holds_alternative<Lambertian>(*bsdf) ||
+                                      std::holds_alternative<Mirror>(*bsdf) || lambert_only(*bsdf);
+                const float u_lobe = one_lobe ? 0.5f : sampler.get1d_at(dim + 2);
+                const vec2 u_bsdf = is_delta(*bsdf) ? vec2(0.5f) : sampler.get2d_at(dim + 3);  // delta lobes ignore it
+
+                // Next-event estimation.
+                if (do_nee) {
+                    // The environment or a triangle; the selection probability is in the pdf.
+                    LightSample ls = m_early_ls;
+                    if ((early ? m_early_found : ts.sample_light(sf.p, ns, u_light_select, u_light, ls)) &&
+                        !is_black(ls.le)) {
+                        const vec3 wi = frame.to_local(ls.wi);
+                        const float cos_gl = glm::dot(ls.wi, ng);
+                        const bool same_side = (cos_gl > 0.f) == (wi.z > 0.f);
+                        // An untextured BSDF is evaluated first (no shadow ray toward a black value), a textured one
+                        // once the shadow ray is traced: its traversal hides the load of the prefetched texels.
+                        // Textures apply to reflection-only lobes, black below the surface whatever the colour: no
+                        // shadow ray there either (unless a metallic-roughness material transmits).
+                        vec3 f = same_side && !per_hit ? eval(*bsdf, wo, wi) : vec3(0.f);
+                        bool visible = false;
+                        if (same_side && (per_hit ? reflects(wo, wi) || transmits(*bsdf) : !is_black(f))) {
+                            const Ray shadow = shadow_ray(origin_toward(ls.wi), ls);
+                            ++m_counters.shadow_rays;
+                            visible = !ts.occluded(shadow);
+                            if (visible && per_hit) f = eval(shade(), wo, wi);
+                        }
+                        if (visible && !is_black(f)) {
+                            // The power heuristic's weight over the light pdf, w / p_l = p_l / (p_l^2 + p_b^2): one
+                            // division (power_heuristic's guards: an infinite p_l weighs 1 / p_l = 0).
+                            const float pl = ls.pdf;
+                            float w_over_pdf = 1.f / pl;
+                            if (mis && !std::isinf(pl)) {
+                                const float pb = pdf(*bsdf, wo, wi);
+                                const float denom = pl * pl + pb * pb;
+                                w_over_pdf =
+                                    denom > 0.f && std::isfinite(denom) ? pl / denom : power_heuristic(pl, pb) / pl;
+                            }
+                            m_L += m_beta * f * (std::fabs(wi.z) * w_over_pdf) * ls.le;
+                        }
+                    }
+                }
+
+                // Punctual lights (glTF KHR_lights_punctual): delta lights, reached by next-event estimation alone
+                // (no BSDF sample can hit them), every one at every non-delta vertex, without a random draw or MIS.
+                if (!scene.punctual_lights.empty() && settings.light_sampling && !is_delta(*bsdf)) {
+                    for (const PunctualLight& light : scene.punctual_lights) {
+                        LightSample ls;
+                        if (!sample_punctual(light, sf.p, ls)) continue;
+                        const vec3 wi = frame.to_local(ls.wi);
+                        if ((glm::dot(ls.wi, ng) > 0.f) != (wi.z > 0.f)) continue;
+                        const vec3 f = eval(shade(), wo, wi);
+                        if (is_black(f)) continue;
+                        ++m_counters.shadow_rays;
+                        if (ts.occluded(shadow_ray(origin_toward(ls.wi), ls))) continue;
+                        m_L += m_beta * f * std::fabs(wi.z) * ls.le;
+                    }
+                }
+
+                // BSDF sampling for the next direction.
+                auto bs = sample(shade(), wo, u_lobe, u_bsdf);
+                if (!bs) return finish();
+                vec3 wi_world = frame.to_world(bs->wi);
+                float cos_g = glm::dot(wi_world, ng);
+                if (((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) && is_delta(*bsdf) && ns != ng) {
+                    // A mirror or glass direction about the shading normal that crosses the facet on the wrong side (at
+                    // a smooth-shaded silhouette): the surface itself is the facet here, so take this sample about the
+                    // geometric normal. Each sample's weight stays the lobe's own (1 reflected, 1/eta^2 refracted), so
+                    // no energy is lost or gained, where ending the path darkened the rim
+                    // (tests/test_glass_furnace.cpp).
+                    const Frame geometric(ng);
+                    bs =
+                        detail::sample_other(*bsdf, geometric.to_local(wo_world), u_lobe, u_bsdf);  // out of line: rare
+                    if (!bs) return finish();
+                    wi_world = geometric.to_world(bs->wi);
+                    cos_g = glm::dot(wi_world, ng);
+                }
+                if ((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) return finish();  // would leak through
+                m_beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
+                if ((bs->wi.z > 0.f) != (wo.z > 0.f)) [[unlikely]] {
+                    // A transmission: into or out of an absorbing solid (oriented frame: wo.z > 0 is outside).
+                    const auto* mr = std::get_if<MetallicRoughness>(bsdf);
+                    if (mr && mr->solid()) {
+                        m_absorbing = wo.z > 0.f && !is_black(mr->sigma);
+                        m_sigma = mr->sigma;
+                    }
+                }
+                if (!is_finite(m_beta) || is_black(m_beta)) return finish();
+                m_specular_bounce = bs->is_delta;
+                m_prev_pdf = bs->pdf;
+                m_prev_p = sf.p;
+                m_prev_n = ns;                // the normal sample_light was given here
+                m_eta_scale *= sqr(bs->eta);  // 1 except across a refraction
+
+                // Russian roulette (issue 13, measured in docs/convergence.md): a path whose throughput m = max(beta) x
+                // eta_scale (pbrt-v4's: the radiance scaling of refraction removed) is at least kRouletteThroughput
+                // always continues; below it, it continues with probability m / kRouletteThroughput and survivors are
+                // divided by that, so the estimator stays unbiased and a surviving path's throughput is brought back to
+                // the threshold. pbrt-v4's rule (threshold 1 from the second vertex) plays roulette at nearly every
+                // bounce, since any surface that is not white leaves the throughput below 1; 0.5 measured best in
+                // efficiency 1/(relMSE x s) over the Cornell box, the mirror-and-glass box, the sunlit room, Sponza and
+                // Sibenik.
+                if (settings.russian_roulette && m_depth >= 1) {
+                    const float m = max_component(m_beta) * m_eta_scale;
+                    if (m < kRouletteThroughput) {
+                        const float p = m / kRouletteThroughput;
+                        if (sampler.get1d_at(dim + 4) >= p) return finish();
+                        m_beta /= p;
+                    }
+                }
+
+                m_ray.o = origin_toward(wi_world);
+                m_ray.d = wi_world;
+                m_ray.tmax = std::numeric_limits<float>::infinity();
+                ++m_depth;
+                m_stage = Stage::Trace;
+                break;  // on to the next vertex's closest hit
+            }
+        }
+    }
+}
+
+vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler,
+                PathCounters& counters) {
+    PathWalker w;
+    w.start(ts, settings, ray, sampler);
+    while (w.step()) {
+    }
+    counters += w.counters();
+    return w.radiance();
+}
+
+}  // namespace pv

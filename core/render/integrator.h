@@ -1,0 +1,149 @@
+// core/render/integrator.h: the path tracer. Solves the rendering equation by Monte Carlo with BSDF importance
+// sampling, optional next-event estimation (light sampling) combined with BSDF sampling by MIS (power heuristic),
+// optional Russian roulette and a depth cap. Every switch combination converges to the same image, except that
+// max_depth truncates paths. max_depth counts scattering events: 0 shows only emitters seen directly.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "core/render/shading.h"
+#include "core/render/surface.h"
+#include "core/render/traceable_scene.h"
+#include "core/sampling/sampler.h"
+
+namespace pv {
+
+// --sky-guide: off, on, or auto (trained, then used where the training predicts it pays; core/render/sky_guide.h).
+enum class SkyGuideMode : uint8_t { Off, On, Auto };
+
+// The estimator's switches, as plain data. Defaults are unbiased in practice (depth 1024 is never reached
+// with roulette on: survival falls geometrically with throughput).
+struct RenderSettings {
+    bool light_sampling = true;  // next-event estimation over emissive triangles, sky and sun
+    bool mis = true;             // power-heuristic MIS between light and BSDF sampling (needs light_sampling)
+    bool russian_roulette = true;
+    int max_depth = 1024;
+    uint32_t seed = 0;
+    // Owen-scrambled Sobol: measured better at equal time on the Cornell box (BENCHMARKS.md sections 1 and 5).
+    SamplerKind sampler = SamplerKind::Sobol;  // see core/sampling/sampler.h
+    // Next-event estimation of the sky guided toward the directions a training pre-pass found unoccluded
+    // (core/render/sky_guide.h); only where the sky shines and the scene has no portals. Auto by default: the training
+    // predicts whether the guide pays for its cost (it halves the error of a room lit by the sky through a window,
+    // and costs more than it gains on the sun-lit room, Sibenik and the conference room; docs/sky-guide.md).
+    SkyGuideMode sky_guide = SkyGuideMode::Auto;
+    // How next-event estimation chooses an emissive triangle: by power, or by a light tree at the shading point
+    // (core/render/light_tree.h; docs/light-sampling.md has the measurements behind the default).
+    LightSamplerKind light_sampler = LightSamplerKind::Power;
+
+    bool operator==(const RenderSettings& o) const {
+        return light_sampling == o.light_sampling && mis == o.mis && russian_roulette == o.russian_roulette &&
+               max_depth == o.max_depth && seed == o.seed && sampler == o.sampler && sky_guide == o.sky_guide &&
+               light_sampler == o.light_sampler;
+    }
+    bool operator!=(const RenderSettings& o) const { return !(*this == o); }
+    // One line for logs and EXR metadata, e.g. "nee=on mis=on rr=on max_depth=1024 seed=0 sampler=independent",
+    // then " sky_guide=on" or " sky_guide=auto", then " light_sampler=tree" with the tree (strings from before the
+    // guide existed mean it off; a render's settings_as_rendered() resolves auto to on or off).
+    std::string describe() const;
+};
+
+// Per-thread counters, added to the renderer's totals once per tile.
+struct PathCounters {
+    uint64_t rays = 0;         // closest-hit rays
+    uint64_t shadow_rays = 0;  // occlusion rays
+    uint64_t paths = 0;
+    uint64_t vertices = 0;  // surface interactions
+    PathCounters& operator+=(const PathCounters& o) {
+        rays += o.rays;
+        shadow_rays += o.shadow_rays;
+        paths += o.paths;
+        vertices += o.vertices;
+        return *this;
+    }
+};
+
+// Sampler dimensions: a sample's camera ray uses dimensions 0 (film position) and 1 (lens), then each bounce a
+// block of kBounceDims (light selection, light point, BSDF lobe, BSDF direction, roulette). A dimension keeps its
+// meaning in every sample of a pixel; a draw that a vertex does not need is skipped, not shifted.
+constexpr uint32_t kCameraDims = 2;
+constexpr uint32_t kBounceDims = 5;
+
+// Russian roulette spares paths whose throughput max(beta) x eta^2 is at least this (the roulette block in
+// trace_path; every path walker that plays roulette, such as the sky guide's training, uses the same rule).
+constexpr float kRouletteThroughput = 0.5f;
+
+// Starts sample `index` of pixel (x, y) and returns its camera ray: the film point jittered uniformly over the
+// pixel (a box filter; its centre with pixel_centre) and, for a thin lens, the lens point. Every renderer (and test)
+// draws camera rays through this one function.
+inline Ray camera_ray(const Camera& camera, Sampler& sampler, int x, int y, uint32_t index, bool pixel_centre = false) {
+    sampler.start(uvec2(uint32_t(x), uint32_t(y)), index);
+    const uint32_t dim = sampler.reserve(kCameraDims);
+    const vec2 film = vec2(float(x), float(y)) + (pixel_centre ? vec2(0.5f) : sampler.get2d_at(dim));
+    return camera.generate(film, camera.has_lens() ? sampler.get2d_at(dim + 1) : vec2(0.5f));
+}
+
+// One path, advanced a stage at a time (pbrt-v4's PathIntegrator::Li cut at its two waits for memory). step() runs
+// until the path must wait for data it has just prefetched, the hit triangle's record after a closest hit and the
+// texels under a textured hit, and returns; the caller can then advance other paths while the loads arrive
+// (Renderer::render_pass interleaves a few per thread on scenes larger than the caches). The arithmetic and the
+// sampler's draws are those of the path traced from start to end, so the radiance is the same, bit for bit,
+// however paths are interleaved: trace_path is start() and step() until it returns false.
+class PathWalker {
+public:
+    // Starts the path of camera ray `ray`; `sampler` has been started for its pixel and sample, and belongs to this
+    // path until it ends. The scene, settings and sampler must outlive the path.
+    void start(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler);
+    // Advances the path; false once it has ended (radiance() and counters() are then its results).
+    bool step() { return (this->*m_step)(); }
+    vec3 radiance() const { return m_L; }
+    const PathCounters& counters() const { return m_counters; }
+
+private:
+    enum class Stage : uint8_t { Trace, Surface, Scatter };
+    template <bool kPacked>
+    bool step_with();
+    bool finish() {
+        m_counters.paths = 1;
+        return false;
+    }
+    const TraceableScene* m_ts = nullptr;
+    const RenderSettings* m_settings = nullptr;
+    Sampler* m_sampler = nullptr;
+    bool (PathWalker::*m_step)() = nullptr;
+    Stage m_stage = Stage::Trace;
+    bool m_nee = false, m_mis = false, m_select_draw = false, m_early_sky = false;
+    // The path.
+    Ray m_ray;
+    vec3 m_L{0.f}, m_beta{1.f};
+    bool m_specular_bounce = true;
+    float m_prev_pdf = 0.f;  // solid-angle pdf of the BSDF sample that produced m_ray
+    vec3 m_prev_p{0.f};
+    vec3 m_prev_n{0.f};  // the shading normal there (the light tree's pick depends on it)
+    float m_eta_scale = 1.f;
+    // Inside an absorbing solid (a metallic-roughness material with KHR_materials_volume attenuation): its
+    // Beer-Lambert coefficient, applied to the segment to the next hit.
+    bool m_absorbing = false;
+    vec3 m_sigma{0.f};
+    int m_depth = 0;
+    PathCounters m_counters;
+    // The vertex in flight, from one stage to the next.
+    Hit m_hit;
+    const TriangleRecord* m_record = nullptr;
+    bool m_early = false, m_early_found = false;  // the environment's light sample drawn at the hit (m_early_sky)
+    uint32_t m_early_dim = 0;
+    vec2 m_early_u{0.f};
+    LightSample m_early_ls;
+    SurfacePoint m_sf;
+    const Material* m_mat = nullptr;
+    bool m_front = false;
+    HitTextures m_tex;        // the hit's per-hit BSDF inputs (core/render/shading.h)
+    TexelFootprint m_texels;  // m_tex.base_color's prefetched texels
+};
+
+// Radiance arriving along `ray` in `scene` (shared read-only by all threads). Uses kBounceDims sampler dimensions
+// per bounce.
+vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler,
+                PathCounters& counters);
+
+}  // namespace pv
