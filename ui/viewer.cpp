@@ -60,6 +60,7 @@ private:
     // Files dropped on the window (drop.h): a scene loads as the Scene section's "Load"; an image becomes the map.
     void handle_drops();
     void upload_difference();
+    void log_error_vs_b();
 
     // Members are destroyed in reverse order: loads, writes and render threads end before the GL context goes.
     const ViewerOptions& m_opt;
@@ -237,6 +238,7 @@ bool Viewer::wait_for_work() {
         m_frame_stats.pass_shown(m_state.display.denoise && !m_image.displayed().denoised.empty() &&
                                  m_image.displayed().denoised_spp == m_image.displayed().spp);
         m_compare.update(m_image.shown());
+        log_error_vs_b();
         upload_difference();
         // The next change restarts at the finest resolution whose first frame is predicted to be ready within
         // three quarters of a display refresh (the rest is the UI's frame).
@@ -371,6 +373,18 @@ void Viewer::upload_difference() {
     const bool denoised = m_denoising && a.denoised.size() == a.rgb.size();
     m_display->upload_difference(m_compare.difference((denoised ? a.denoised : a.rgb).data(), a.width, a.height),
                                  a.width, a.height);
+}
+
+// With a B (e.g. a converged reference, --compare), each newly shown pass logs its relMSE against B: of the image
+// on screen (the denoised one when shown) and of the raw mean. tests/gui/measure_viewer.sh's settle time reads it.
+void Viewer::log_error_vs_b() {
+    const auto raw = m_compare.rel_mse();
+    if (!raw) return;
+    const Snapshot& s = m_image.shown();
+    const bool denoised = m_denoising && m_compare.rel_mse_denoised() >= 0.0;
+    m_log.line("error gen=%llu spp=%u denoised_spp=%u shown=%s rel_mse_shown=%.4e rel_mse_raw=%.4e",
+               (unsigned long long)s.generation, s.spp, s.denoised_spp, denoised ? "denoised" : "raw",
+               denoised ? m_compare.rel_mse_denoised() : *raw, *raw);
 }
 
 NavigationFrame Viewer::navigation_frame(double dt) const {
