@@ -190,6 +190,17 @@ TEST(DenoiseNfor, SameOutputForAnyThreadCount) {
     EXPECT_EQ(one.rgb, four.rgb);
 }
 
+// The viewer runs NFOR once rendering stops and cancels it when anything ends the stop: a raised flag gives an
+// empty image, a lowered one the same image as no flag.
+TEST(DenoiseNfor, CancelFlag) {
+    const Film film = noisy_step_film(16);
+    const std::atomic<bool> raised{true}, lowered{false};
+    EXPECT_EQ(denoise_nfor(film, step_features(), nullptr, &raised).width, 0);
+    const Image with_flag = denoise_nfor(film, step_features(), nullptr, &lowered);
+    EXPECT_EQ(with_flag.width, film.width());
+    EXPECT_EQ(with_flag.rgb, denoise_nfor(film, step_features()).rgb);
+}
+
 TEST(DenoiseNfor, PassesThroughSparsePixels) {
     const Film film = noisy_step_film(3);  // one odd sample per pixel
     const Image out = denoise_nfor(film, step_features());

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <thread>
 
+#include "core/frame/denoise_nfor.h"
 #include "core/frame/partial.h"
 #include "core/frame/progressive.h"
 #include "core/load/scene_file.h"
@@ -300,6 +301,39 @@ TEST(ProgressiveDenoise, StoppedAccumulationIsDenoisedWithoutRestart) {
     EXPECT_EQ(s.rgb, before.rgb);  // the accumulation is untouched
     for (float v : s.denoised) EXPECT_TRUE(std::isfinite(v) && v >= 0.f);
     EXPECT_NE(s.denoised, s.rgb);  // it did filter
+}
+
+// Once rendering stops, the denoised image becomes NFOR's: the image `pathview render --denoise` writes for the
+// same film (NFOR of a synchronous render's 8 passes with 8-sample features), bit for bit. A restart then shows the
+// a-trous filter again until the new accumulation stops.
+TEST(ProgressiveDenoise, StoppedAccumulationEndsWithNfor) {
+    ProgressiveRenderer pr(cornell(), kThreads);
+    pr.set_denoise(true);
+    pr.set_target(8, 0.0);
+    const RenderRequest req = request(24, 16);
+    const uint64_t g = pr.restart(req);
+    Snapshot s;
+    for (const auto start = std::chrono::steady_clock::now(); !s.denoised_nfor && before_deadline(start);) {
+        pr.wait_for(g, s.spp + 1, 10ms);  // a poll: NFOR's image comes without a new spp
+        pr.latest(s);
+    }
+    ASSERT_TRUE(s.denoised_nfor);
+    ASSERT_EQ(s.spp, 8u);
+    EXPECT_EQ(s.denoised_spp, 8u);
+    Renderer r(cornell(), 1);
+    r.restart(req.camera, req.settings, req.width, req.height);
+    for (int i = 0; i < 8; ++i) r.render_pass();
+    const FeatureImage f = render_features(r.traceable(), r.camera(), req.width, req.height, 8, req.settings.seed);
+    EXPECT_EQ(s.denoised, denoise_nfor(r.film(), f).rgb);
+    EXPECT_EQ(s.rgb, r.film().mean().rgb);
+
+    pr.set_target(0, 0.0);
+    RenderSettings other;
+    other.seed = 7;
+    const uint64_t g2 = pr.restart(request(24, 16, other));
+    const Snapshot next = settled(pr, g2, 1);
+    ASSERT_EQ(next.generation, g2);
+    EXPECT_FALSE(next.denoised_nfor);
 }
 
 // While rendering, denoised images follow the accumulation (lagging at most while the filter is throttled) and the

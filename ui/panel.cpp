@@ -125,7 +125,8 @@ std::string shown_image(const ViewState& state, const Snapshot* s) {
     if (!state.display.denoise) return "RAW";
     if (!s || s->denoised.empty()) return "RAW (denoising...)";
     char buf[64];
-    std::snprintf(buf, sizeof buf, "DENOISED at %u/%u spp", s->denoised_spp, s->spp);
+    std::snprintf(buf, sizeof buf, "DENOISED%s at %u/%u spp", s->denoised_nfor ? " (NFOR)" : "", s->denoised_spp,
+                  s->spp);
     return buf;
 }
 

@@ -383,8 +383,9 @@ void Viewer::log_error_vs_b() {
     const Snapshot& s = m_image.shown();
     const bool denoised = m_denoising && m_compare.rel_mse_denoised() >= 0.0;
     m_log.line("error gen=%llu spp=%u denoised_spp=%u shown=%s rel_mse_shown=%.4e rel_mse_raw=%.4e",
-               (unsigned long long)s.generation, s.spp, s.denoised_spp, denoised ? "denoised" : "raw",
-               denoised ? m_compare.rel_mse_denoised() : *raw, *raw);
+               (unsigned long long)s.generation, s.spp, s.denoised_spp,
+               denoised ? (s.denoised_nfor ? "nfor" : "atrous") : "raw", denoised ? m_compare.rel_mse_denoised() : *raw,
+               *raw);
 }
 
 NavigationFrame Viewer::navigation_frame(double dt) const {

@@ -183,7 +183,7 @@ Centres centres(int w, int h, const FeatureImage& f, const std::vector<vec3>& gu
 
 // Filters `target` by weighted first-order regression; weights from `guide` (var_g), its centres as above.
 void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& target, const std::vector<vec3>& guide,
-             const std::vector<vec3>& var_g, float k, std::vector<vec3>& out) {
+             const std::vector<vec3>& var_g, float k, std::vector<vec3>& out, const std::atomic<bool>* cancel) {
     const int w = p.w, h = p.h;
     out.assign(target.size(), vec3(0.f));
     const std::vector<float> sv = smoothed_variance(w, h, var_g), floor = variance_floor(w, h, var_g);
@@ -192,7 +192,8 @@ void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& ta
         Eigen::Matrix<double, kCols, kCols> xtx;
         Eigen::Matrix<double, kCols, 3> xty;
         Eigen::Matrix<double, kCols, 1> row;
-        for (int y = rows.begin(); y != rows.end(); ++y)
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+            if (cancel && cancel->load(std::memory_order_relaxed)) return;
             for (int x = 0; x < w; ++x) {
                 const size_t i = size_t(y) * size_t(w) + size_t(x);
                 xtx.setZero();
@@ -244,6 +245,7 @@ void regress(const Planes& p, const FeatureImage& f, const std::vector<vec3>& ta
                 if (!is_finite(o)) o = target[i];
                 out[i] = glm::max(o, vec3(0.f));
             }
+        }
     });
 }
 
@@ -301,7 +303,8 @@ void atrous_halves(const Planes& p, const FeatureImage& features, AtrousDenoiser
 
 }  // namespace
 
-Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* stats) {
+Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* stats, const std::atomic<bool>* cancel) {
+    const auto cancelled = [cancel] { return cancel && cancel->load(std::memory_order_relaxed); };
     const auto start = std::chrono::steady_clock::now();
     const Planes p = halves(film, features);
     const int w = p.w, h = p.h;
@@ -337,8 +340,9 @@ Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* st
     };
     std::vector<vec3> fa, fb;
     for (int k = 0; k < kK; ++k) {
-        regress(p, features, p.a, p.b, p.var_b, kBandwidths[k], fa);  // half A, weights from B
-        regress(p, features, p.b, p.a, p.var_a, kBandwidths[k], fb);  // half B, weights from A
+        regress(p, features, p.a, p.b, p.var_b, kBandwidths[k], fa, cancel);  // half A, weights from B
+        regress(p, features, p.b, p.a, p.var_a, kBandwidths[k], fb, cancel);  // half B, weights from A
+        if (cancelled()) return Image();
         keep_better(k, fa, fb, [&](size_t i) { return 0.5f * (fa[i] + fb[i]); });
     }
     // The a-trous candidates, scored by their filtered halves; the output is the same filter (its features laid out
@@ -356,6 +360,7 @@ Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* st
             return full.at(int(i % size_t(w)), int(i / size_t(w))) / demodulation(features, i);
         });
     }
+    if (cancelled()) return Image();
     Image out = mean;
     for (int y = 0, i = 0; y < h; ++y)
         for (int x = 0; x < w; ++x, ++i) {

@@ -11,6 +11,8 @@
 // or its filter of the full mean (a-trous). Linear RGB in, linear RGB out.
 #pragma once
 
+#include <atomic>
+
 #include "core/frame/aov.h"
 #include "core/image/film.h"
 
@@ -23,7 +25,9 @@ struct NforStats {
 };
 
 // Denoises the film's mean with `features` (same size; render_features). Pixels with fewer than 2 samples in a
-// half are passed through. Parallel over rows (TBB).
-Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* stats = nullptr);
+// half are passed through. Parallel over rows (TBB). When *cancel turns true the remaining rows are skipped and an
+// empty image (0x0) is returned.
+Image denoise_nfor(const Film& film, const FeatureImage& features, NforStats* stats = nullptr,
+                   const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace pv

@@ -10,6 +10,7 @@
 
 #include "core/base/error.h"
 #include "core/frame/denoise_atrous.h"
+#include "core/frame/denoise_nfor.h"
 #include "core/image/metrics.h"
 
 namespace pv {
@@ -25,6 +26,7 @@ ProgressiveRenderer::~ProgressiveRenderer() {
         std::lock_guard<std::mutex> lock(m_mutex);
         m_quit = true;
         m_cancel.store(true);
+        m_nfor_cancel.store(true);
     }
     m_wake.notify_all();
     m_thread.join();
@@ -51,6 +53,7 @@ uint64_t ProgressiveRenderer::restart(const RenderRequest& request) {
         generation = ++m_generation;
         m_request_posted = std::chrono::steady_clock::now();
         m_cancel.store(true);
+        m_nfor_cancel.store(true);
     }
     m_wake.notify_all();
     return generation;
@@ -59,6 +62,7 @@ uint64_t ProgressiveRenderer::restart(const RenderRequest& request) {
 void ProgressiveRenderer::set_paused(bool paused) {
     {
         std::lock_guard<std::mutex> lock(m_mutex);
+        if (!paused) m_nfor_cancel.store(true);
         m_paused = paused;
     }
     m_wake.notify_all();
@@ -69,6 +73,7 @@ void ProgressiveRenderer::set_target(uint32_t target_spp, double target_seconds)
         std::lock_guard<std::mutex> lock(m_mutex);
         m_target_spp = target_spp;
         m_target_seconds = std::max(0.0, target_seconds);
+        m_nfor_cancel.store(true);
     }
     m_wake.notify_all();
 }
@@ -83,6 +88,7 @@ int ProgressiveRenderer::threads() const { return m_renderer.threads(); }
 void ProgressiveRenderer::set_denoise(bool on) {
     {
         std::lock_guard<std::mutex> lock(m_mutex);
+        if (!on) m_nfor_cancel.store(true);
         m_denoise = on;
     }
     m_wake.notify_one();
@@ -148,6 +154,12 @@ bool ProgressiveRenderer::denoise_due() const {
            (m_denoised_generation != m_generation || m_denoised_spp != m_renderer.stats().spp);
 }
 
+bool ProgressiveRenderer::nfor_due() const {
+    const uint32_t spp = m_renderer.stats().spp;
+    return m_denoise && !should_render() && spp >= kNforMinSpp && !denoise_due() &&
+           (m_nfor_generation != m_generation || m_nfor_spp != spp);
+}
+
 bool ProgressiveRenderer::should_render() const {
     // A new accumulation gets its first pass even while paused, so the picture follows the camera.
     return !target_reached() && (!m_paused || m_renderer.stats().spp == 0);
@@ -164,7 +176,8 @@ void ProgressiveRenderer::drive() {
             std::unique_lock<std::mutex> lock(m_mutex);
             m_wake.wait(lock, [&] {
                 return m_quit || m_pending ||
-                       (has_request && (should_render() || partial_due() || (denoise_due() && !m_pending)));
+                       (has_request &&
+                        (should_render() || partial_due() || ((denoise_due() || nfor_due()) && !m_pending)));
             });
             if (m_quit) return;
             if (m_pending) {
@@ -213,15 +226,22 @@ void ProgressiveRenderer::drive() {
             }
             if (on_publish) on_publish();
         }
-        bool idle_denoise = false;
+        bool idle_denoise = false, idle_nfor = false;
         {
             std::lock_guard<std::mutex> lock(m_mutex);
             if (m_quit || m_pending || !has_request) continue;
             if (!should_render()) {
-                // Stopped (paused, target reached): denoise the film as it is, once, if asked to.
+                // Stopped (paused, target reached): denoise the film as it is, once, if asked to: the a-trous
+                // image at once, then NFOR's.
                 idle_denoise = denoise_due() && generation == m_generation;
-                if (!idle_denoise) continue;
+                idle_nfor = !idle_denoise && nfor_due() && generation == m_generation;
+                if (idle_nfor) m_nfor_cancel.store(false);  // under the lock the events that cancel it take
+                if (!idle_denoise && !idle_nfor) continue;
             }
+        }
+        if (idle_nfor) {
+            run_nfor(generation);
+            continue;
         }
         if (idle_denoise) {
             bool reached;
@@ -312,10 +332,35 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
     // made the second pass of every accumulation (each coarse pass while orbiting) go undenoised.
     const auto filter_start = std::chrono::steady_clock::now();
     m_atrous.denoise(film.mean(), film.variance_of_mean(), m_denoised_image);
+    m_denoised_nfor = false;
     m_denoised_generation = generation;
     m_denoised_spp = spp;
     m_denoise_end = std::chrono::steady_clock::now();
     m_denoise_seconds = std::chrono::duration<double>(m_denoise_end - filter_start).count();
+}
+
+void ProgressiveRenderer::run_nfor(uint64_t generation) {
+    const Film& film = m_renderer.film();
+    const uint32_t spp = m_renderer.stats().spp;
+    const auto start = std::chrono::steady_clock::now();
+    // The features `pathview render --denoise` uses (8 samples a pixel), so the viewer shows what it would write.
+    const FeatureImage features = render_features(m_renderer.traceable(), m_renderer.camera(), film.width(),
+                                                  film.height(), 8, m_renderer.settings().seed, &m_nfor_cancel);
+    if (m_nfor_cancel.load()) return;
+    Image image = denoise_nfor(film, features, nullptr, &m_nfor_cancel);
+    if (m_nfor_cancel.load() || image.width == 0) return;
+    m_denoised_image = std::move(image);
+    m_denoised_nfor = true;
+    m_denoised_generation = m_nfor_generation = generation;
+    m_denoised_spp = m_nfor_spp = spp;
+    m_nfor_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    bool reached;
+    {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        if (m_pending || m_quit || generation != m_generation) return;
+        reached = target_reached();
+    }
+    publish(generation, reached);
 }
 
 void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool force_denoise) {
@@ -351,11 +396,13 @@ void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool
     if (!m_denoised_image.rgb.empty() && m_denoised_generation == generation) {
         s.denoised = m_denoised_image.rgb;
         s.denoised_spp = m_denoised_spp;
-        s.denoise_ms = m_denoise_seconds * 1e3;
+        s.denoise_ms = (m_denoised_nfor ? m_nfor_seconds : m_denoise_seconds) * 1e3;
+        s.denoised_nfor = m_denoised_nfor;
     } else {
         s.denoised.clear();
         s.denoised_spp = 0;
         s.denoise_ms = 0.0;
+        s.denoised_nfor = false;
     }
     s.camera = m_renderer.camera().desc();
     s.settings = m_renderer.settings();

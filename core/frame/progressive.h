@@ -63,6 +63,9 @@ struct Snapshot {
     std::vector<float> denoised;
     uint32_t denoised_spp = 0;
     double denoise_ms = 0.0;
+    // The denoised image is NFOR's (core/frame/denoise_nfor.h), made once rendering stopped (paused or at its
+    // target) with at least kNforMinSpp samples; else the a-trous filter's.
+    bool denoised_nfor = false;
     // The first publication of an accumulation: the driver's time from taking the request to this snapshot being
     // ready (restart, sky guide, the pass, the denoiser's features and filter, the copy), and the features' share
     // (0 when not denoising). Later snapshots of the same accumulation carry the same figures.
@@ -89,9 +92,13 @@ public:
     uint64_t restart(const RenderRequest& request);
     // Pausing stops after the pass in flight (which is still published); resuming continues the accumulation.
     void set_paused(bool paused);
-    // Denoised snapshots (Snapshot::denoised) on or off; never restarts or touches the accumulation. Turned on
-    // while rendering has stopped, the driver denoises the current film once and publishes it.
+    // Denoised snapshots (Snapshot::denoised) on or off; never restarts or touches the accumulation. While
+    // rendering, each pass is a-trous filtered (throttled to a third of the time). Once rendering stops (paused or
+    // at its target), the driver publishes the a-trous image of the film as it is, then NFOR's (final quality,
+    // seconds to a minute at 640x480) when the film has kNforMinSpp samples; a restart, resuming, a new target or
+    // turning denoising off cancels NFOR in flight.
     void set_denoise(bool on);
+    static constexpr uint32_t kNforMinSpp = 4;  // two per half buffer, NFOR's least
     // Stops rendering (target_reached) once spp >= target_spp or seconds >= target_seconds, or once every pixel has
     // reached the request's noise threshold; 0 = no target.
     void set_target(uint32_t target_spp, double target_seconds);
@@ -128,14 +135,18 @@ private:
     bool should_render() const;
     bool partial_due() const;  // a requested partial render can be made now
     bool denoise_due() const;  // denoising is on and the film's last state has not been denoised
+    bool nfor_due() const;     // rendering stopped, the a-trous image is out, and NFOR has not seen this film
     void publish(uint64_t generation, bool target_reached, bool force_denoise = false);
     // On the driver thread: refreshes m_denoised_image for the current film when due (or forced).
     void update_denoised(uint64_t generation, bool force);
+    // On the driver thread, once stopped: NFOR of the film (features, then the filter), published unless cancelled.
+    void run_nfor(uint64_t generation);
     double seconds_to_threshold(float threshold) const;
 
     std::shared_ptr<const Scene> m_scene;
     Renderer m_renderer;  // used by the driver thread only, apart from its read-only BVH and scene
     std::atomic<bool> m_cancel{false};
+    std::atomic<bool> m_nfor_cancel{false};  // raised (under m_mutex) by whatever ends the stop NFOR runs in
 
     // Requests and control, under m_mutex.
     mutable std::mutex m_mutex;
@@ -160,6 +171,10 @@ private:
     Image m_denoised_image;
     uint64_t m_denoised_generation = 0;
     uint32_t m_denoised_spp = 0;
+    bool m_denoised_nfor = false;
+    uint64_t m_nfor_generation = 0;  // the film NFOR last finished (or gave up) on
+    uint32_t m_nfor_spp = 0;
+    double m_nfor_seconds = 0.0;  // features and filter (apart from the a-trous throttle's m_denoise_seconds)
     double m_denoise_seconds = 0.0;
     std::chrono::steady_clock::time_point m_denoise_end{};
     double m_features_seconds = 0.0;                           // the last feature pass

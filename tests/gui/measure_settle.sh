@@ -2,7 +2,7 @@
 # tests/gui/measure_settle.sh REFERENCE.exr [SCENE [FLAGS...]]: the viewer's settle time under Xvfb (Mesa llvmpipe).
 # Not a test: it never fails on time. It opens SCENE (default: the built-in Cornell box) with FLAGS and B =
 # REFERENCE (`--compare`: a converged render of the start view at the same size, e.g. `pathview render SCENE --time
-# 600 -o ref.exr`), then TRIALS times (default 3) for each display (the denoised default, then raw after N): orbits
+# 600 -o ref.exr`), then TRIALS times (default 3) for each display (the denoised default (a-trous while rendering), then raw after N): orbits
 # away with a short drag, waits, and presses R, which puts the camera back at the start view. The settle time is
 # from that key press to the first shown pass whose image on screen is within relMSE LIMIT (default 2e-3) of B, read
 # from the viewer's --log-file ("action reset-camera", then "error ... rel_mse_shown=" lines); "not within Ns" when

@@ -235,6 +235,9 @@ TEST(ViewerPanel, SaysWhetherTheDenoisedOrTheRawImageIsShown) {
     s.denoised.assign(3, 0.f);
     s.denoised_spp = 8;
     EXPECT_EQ(shown_image(state, &s), "DENOISED at 8/9 spp");
+    s.denoised_nfor = true;  // once rendering stopped
+    EXPECT_EQ(shown_image(state, &s), "DENOISED (NFOR) at 8/9 spp");
+    s.denoised_nfor = false;
     state.display.denoise = false;
     EXPECT_EQ(shown_image(state, &s), "RAW");
     state.display.view = View::RelativeError;
