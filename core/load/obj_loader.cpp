@@ -16,6 +16,7 @@
 #include "core/base/error.h"
 #include "core/base/file_io.h"
 #include "core/scene/material_params.h"
+#include "core/scene/texture_decode.h"
 
 namespace pv {
 namespace {
