@@ -179,7 +179,7 @@ TEST(MaterialParams, SceneFileMetallicRoughnessOverride) {
     }
 }
 
-// The viewer's material editor (ui/panel.cpp) and scene.json overrides on a glTF material with a
+// The viewer's material editor (ui/panel_scene.cpp) and scene.json overrides on a glTF material with a
 // metallicRoughnessTexture: its texel scales the metallic factor at each hit, so a texel of metallic 0 under a factor
 // of 1 is the dielectric of factor 0 there. After an edit (roughness 0.5 -> 0.6, base colour changed), the hit's BSDF
 // must still be that dielectric: eval equal to the same material built with metallic 0, for directions over the

@@ -50,6 +50,13 @@ public:
     bool dragging() const { return m_drag.active; }
 
 private:
+    // The stages of handle: button presses and releases (drags, clicks), then shortcuts.
+    void handle_buttons(InputQueue& input, const NavigationFrame& frame, CameraController& camera, ViewState& state,
+                        PanelActions& act, NavigationResult& result);
+    void drag_to(vec2 p, const NavigationFrame& frame, CameraController& camera, PanelActions& act,
+                 NavigationResult& result);
+    void handle_keys(InputQueue& input, const NavigationFrame& frame, CameraController& camera, ViewState& state,
+                     PanelActions& act, NavigationResult& result);
     // A ctrl+left drag from a to b (window pixels): the render region it covers, in render pixels.
     void set_region(vec2 a, vec2 b, const NavigationFrame& frame, ViewState& state, PanelActions& act);
     void click(vec2 pos, double time, const NavigationFrame& frame, CameraController& camera, ViewState& state,

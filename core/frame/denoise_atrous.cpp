@@ -192,6 +192,143 @@ void AtrousDenoiser::denoise(const Image& mean, const Image& variance_of_mean, c
     denoise(mean, variance_of_mean, out);
 }
 
+namespace {
+
+// Demodulate: the colour divided by the albedo (irradiance-like, what is filtered); the variance of the channel mean,
+// by the albedo's luminance squared.
+void demodulate(const Image& mean, const Image& variance_of_mean, float* const (&dem)[3], float* const (&col)[3],
+                float* var, size_t n) {
+    const float *const rgb = mean.rgb.data(), *const vrgb = variance_of_mean.rgb.data();
+    PV_NO_ALIAS_LOOP
+    for (size_t i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) col[c][i] = rgb[i * 3 + size_t(c)] / dem[c][i];
+        const float la = 0.2126f * dem[0][i] + 0.7152f * dem[1][i] + 0.0722f * dem[2][i];
+        var[i] = std::max(0.f, (vrgb[i * 3] + vrgb[i * 3 + 1] + vrgb[i * 3 + 2]) * (1.f / 3.f)) / (la * la);
+    }
+}
+
+// 1 / the colour scale of each pixel, from the variance box-filtered over 3x3 (SVGF sec. 4.4): a pixel whose few
+// samples all agreed (all zero, say) has variance 0 and would accept no neighbour, a black dot in the output.
+// `rows` holds 2 x w floats of scratch.
+void colour_scale(const float* var, float* inv_sigma, float* rows, int w, int h, float sigma_colour) {
+    for (int y = 0; y < h; ++y) {
+        float* const rs = rows;  // vertical sums of this row over rows y0..y1
+        const int y0 = std::max(0, y - 1), y1 = std::min(h - 1, y + 1);
+        std::fill(rs, rs + w, 0.f);
+        for (int yy = y0; yy <= y1; ++yy) {
+            const float* vr = var + size_t(yy) * size_t(w);
+            for (int x = 0; x < w; ++x) rs[x] += vr[x];
+        }
+        float* const box = rows + w;
+        box[0] = (rs[0] + (w > 1 ? rs[1] : 0.f)) / float(std::min(w, 2));
+        for (int x = 1; x + 1 < w; ++x) box[x] = (rs[x - 1] + rs[x] + rs[x + 1]) * (1.f / 3.f);
+        if (w > 1) box[w - 1] = (rs[w - 2] + rs[w - 1]) * 0.5f;
+        const float inv_rows = 1.f / float(y1 - y0 + 1);
+        float* is = inv_sigma + size_t(y) * size_t(w);
+        for (int x = 0; x < w; ++x) is[x] = 1.f / (sigma_colour * std::sqrt(box[x] * inv_rows) + 1e-4f);
+    }
+}
+
+// One pass's geometry: the image size, the stride of its taps, and the row accumulators (5 x w floats).
+struct PassShape {
+    int w, h, stride;
+    float inv_stride;
+    float* rows;
+};
+
+// Pixels xa .. xb - 1 of row y, tap by tap over row segments (the pixels near the border, whose taps may fall
+// outside): the centre into the row accumulators, each in-image outer tap by accumulate_taps, then normalised.
+void filter_row_segment(const PassPlanes& p, const PassShape& s, int y, int xa, int xb) {
+    const int w = s.w;
+    float* const rows = s.rows;
+    float *const ar = rows, *const ag = rows + w, *const ab = rows + 2 * w, *const av = rows + 3 * w,
+                 *const aw = rows + 4 * w;
+    const float* const* col = p.col;
+    const float *const var = p.var, *const valid = p.valid;
+    const size_t ri = size_t(y) * size_t(w);
+    // The centre tap: weight kTap[1]^2 (all its stopping terms are 1), 0 for an invalid pixel.
+    PV_NO_ALIAS_LOOP
+    for (int x = xa; x < xb; ++x) {
+        const size_t i = ri + size_t(x);
+        const float wc = kCentre * valid[i];
+        ar[x] = wc * col[0][i];
+        ag[x] = wc * col[1][i];
+        ab[x] = wc * col[2][i];
+        av[x] = wc * wc * var[i];
+        aw[x] = wc;
+    }
+    const float* const nrm[3] = {p.nx, p.ny, p.nz};
+    for (int ky = 0; ky < 3; ++ky) {
+        const int yy = y + (ky - 1) * s.stride;
+        if (yy < 0 || yy >= s.h) continue;
+        for (int kx = 0; kx < 3; ++kx) {
+            if (kx == 1 && ky == 1) continue;  // the centre, above
+            const int dx = (kx - 1) * s.stride;
+            const int x0 = std::max(xa, -dx), x1 = std::min(xb, w - dx);
+            if (x1 <= x0) continue;  // a stride wider than the image
+            const size_t ri0 = ri + size_t(x0), rj = size_t(yy) * size_t(w) + size_t(x0 + dx);
+            Taps t;
+            for (int c = 0; c < 3; ++c) {
+                t.ni[c] = nrm[c] + ri0;
+                t.nj[c] = nrm[c] + rj;
+                t.cj[c] = col[c] + rj;
+                t.acc[c] = rows + size_t(c) * size_t(w) + size_t(x0);
+            }
+            t.zi = p.z + ri0;
+            t.zj = p.z + rj;
+            t.inv_dz = p.inv_dz + ri0;
+            t.li = p.lum + ri0;
+            t.lj = p.lum + rj;
+            t.inv_sigma = p.inv_sigma + ri0;
+            t.vj = var + rj;
+            t.acc_v = rows + 3 * size_t(w) + size_t(x0);
+            t.acc_w = rows + 4 * size_t(w) + size_t(x0);
+            accumulate_taps(t, x1 - x0, kTap[kx] * kTap[ky], s.inv_stride);
+        }
+    }
+    // An invalid pixel has weight sum 0 (its normal 0 zeroes every tap): it keeps its colour and variance.
+    float *const tr = p.out[0], *const tg = p.out[1], *const tb = p.out[2], *const tv = p.out_var;
+    PV_NO_ALIAS_LOOP
+    for (int x = xa; x < xb; ++x) {
+        const size_t i = ri + size_t(x);
+        const float keep = 1.f - valid[i];
+        const float inv = 1.f / (aw[x] + keep);
+        tr[i] = (ar[x] + keep * col[0][i]) * inv;
+        tg[i] = (ag[x] + keep * col[1][i]) * inv;
+        tb[i] = (ab[x] + keep * col[2][i]) * inv;
+        tv[i] = (av[x] + keep * var[i]) * inv * inv;
+    }
+}
+
+// One a-trous pass from p.col, p.var into p.out, p.out_var: rows and columns whose taps all fall inside through
+// filter_interior, the rest by filter_row_segment.
+void filter_pass(const PassPlanes& p, const PassShape& s) {
+    const int w = s.w, h = s.h, stride = s.stride;
+    // Offsets and weights of the eight outer taps, in filter_row_segment's order.
+    ptrdiff_t off[8];
+    float taps[8];
+    for (int ky = 0, t = 0; ky < 3; ++ky)
+        for (int kx = 0; kx < 3; ++kx)
+            if (kx != 1 || ky != 1) {
+                off[t] = ptrdiff_t(ky - 1) * stride * w + (kx - 1) * stride;
+                taps[t++] = kTap[kx] * kTap[ky];
+            }
+    for (int y = 0; y < h; ++y) {
+        const size_t ri = size_t(y) * size_t(w);
+        const bool inner_row = y >= stride && y + stride < h && w > 2 * stride;
+        if (inner_row) {
+            filter_interior(p, ri + size_t(stride), w - 2 * stride, off, taps, s.inv_stride);
+            filter_row_segment(p, s, y, 0, stride);
+            filter_row_segment(p, s, y, w - stride, w);
+        } else {
+            filter_row_segment(p, s, y, 0, w);
+        }
+    }
+}
+
+}  // namespace
+
+// Demodulate; per pass: the colour scale, the luminance, the filter (its output the next pass's input); remodulate.
 void AtrousDenoiser::denoise(const Image& mean, const Image& variance_of_mean, Image& out) {
     const int w = m_w, h = m_h;
     const size_t n = size_t(w) * size_t(h);
@@ -202,131 +339,26 @@ void AtrousDenoiser::denoise(const Image& mean, const Image& variance_of_mean, I
     float* col[3] = {plane(kColR), plane(kColG), plane(kColB)};
     float* tmp[3] = {plane(kTmpR), plane(kTmpG), plane(kTmpB)};
     float *var = plane(kVar), *tmpv = plane(kTmpVar);
-    float* const nrm[3] = {plane(kNx), plane(kNy), plane(kNz)};
-    float *const valid = plane(kValid), *const z = plane(kZ), *const inv_dz = plane(kInvDz), *const lum = plane(kLum),
-                 *const inv_sigma = plane(kInvSigma);
-    // Demodulate: filter irradiance-like colour / albedo; the variance of the channel mean, by the albedo's
-    // luminance squared.
-    const float *const rgb = mean.rgb.data(), *const vrgb = variance_of_mean.rgb.data();
-    PV_NO_ALIAS_LOOP
-    for (size_t i = 0; i < n; ++i) {
-        for (int c = 0; c < 3; ++c) col[c][i] = rgb[i * 3 + size_t(c)] / dem[c][i];
-        const float la = 0.2126f * dem[0][i] + 0.7152f * dem[1][i] + 0.0722f * dem[2][i];
-        var[i] = std::max(0.f, (vrgb[i * 3] + vrgb[i * 3 + 1] + vrgb[i * 3 + 2]) * (1.f / 3.f)) / (la * la);
-    }
+    float *const lum = plane(kLum), *const inv_sigma = plane(kInvSigma);
+    demodulate(mean, variance_of_mean, dem, col, var, n);
 
-    float* const rows = m_rows.data();
     for (int pass = 0; pass < kPasses; ++pass) {
         const int stride = 1 << pass;
-        const float inv_stride = 1.f / float(stride);
-        // The colour scale from the variance box-filtered over 3x3 (SVGF sec. 4.4): a pixel whose few samples all
-        // agreed (all zero, say) has variance 0 and would accept no neighbour, a black dot in the output.
-        for (int y = 0; y < h; ++y) {
-            float* const rs = rows;  // vertical sums of this row over rows y0..y1
-            const int y0 = std::max(0, y - 1), y1 = std::min(h - 1, y + 1);
-            std::fill(rs, rs + w, 0.f);
-            for (int yy = y0; yy <= y1; ++yy) {
-                const float* vr = var + size_t(yy) * size_t(w);
-                for (int x = 0; x < w; ++x) rs[x] += vr[x];
-            }
-            float* const box = rows + w;
-            box[0] = (rs[0] + (w > 1 ? rs[1] : 0.f)) / float(std::min(w, 2));
-            for (int x = 1; x + 1 < w; ++x) box[x] = (rs[x - 1] + rs[x] + rs[x + 1]) * (1.f / 3.f);
-            if (w > 1) box[w - 1] = (rs[w - 2] + rs[w - 1]) * 0.5f;
-            const float inv_rows = 1.f / float(y1 - y0 + 1);
-            float* is = inv_sigma + size_t(y) * size_t(w);
-            for (int x = 0; x < w; ++x) is[x] = 1.f / (m_sigma_colour * std::sqrt(box[x] * inv_rows) + 1e-4f);
-        }
+        colour_scale(var, inv_sigma, m_rows.data(), w, h, m_sigma_colour);
         for (size_t i = 0; i < n; ++i) lum[i] = 0.2126f * col[0][i] + 0.7152f * col[1][i] + 0.0722f * col[2][i];
-
-        auto row_path = [&](int y, int xa, int xb) {
-            float *const ar = rows, *const ag = rows + w, *const ab = rows + 2 * w, *const av = rows + 3 * w,
-                         *const aw = rows + 4 * w;
-            const size_t ri = size_t(y) * size_t(w);
-            // The centre tap: weight kTap[1]^2 (all its stopping terms are 1), 0 for an invalid pixel.
-            PV_NO_ALIAS_LOOP
-            for (int x = xa; x < xb; ++x) {
-                const size_t i = ri + size_t(x);
-                const float wc = kCentre * valid[i];
-                ar[x] = wc * col[0][i];
-                ag[x] = wc * col[1][i];
-                ab[x] = wc * col[2][i];
-                av[x] = wc * wc * var[i];
-                aw[x] = wc;
-            }
-            for (int ky = 0; ky < 3; ++ky) {
-                const int yy = y + (ky - 1) * stride;
-                if (yy < 0 || yy >= h) continue;
-                for (int kx = 0; kx < 3; ++kx) {
-                    if (kx == 1 && ky == 1) continue;  // the centre, above
-                    const int dx = (kx - 1) * stride;
-                    const int x0 = std::max(xa, -dx), x1 = std::min(xb, w - dx);
-                    if (x1 <= x0) continue;  // a stride wider than the image
-                    const size_t ri0 = ri + size_t(x0), rj = size_t(yy) * size_t(w) + size_t(x0 + dx);
-                    Taps t;
-                    for (int c = 0; c < 3; ++c) {
-                        t.ni[c] = nrm[c] + ri0;
-                        t.nj[c] = nrm[c] + rj;
-                        t.cj[c] = col[c] + rj;
-                        t.acc[c] = rows + size_t(c) * size_t(w) + size_t(x0);
-                    }
-                    t.zi = z + ri0;
-                    t.zj = z + rj;
-                    t.inv_dz = inv_dz + ri0;
-                    t.li = lum + ri0;
-                    t.lj = lum + rj;
-                    t.inv_sigma = inv_sigma + ri0;
-                    t.vj = var + rj;
-                    t.acc_v = rows + 3 * size_t(w) + size_t(x0);
-                    t.acc_w = rows + 4 * size_t(w) + size_t(x0);
-                    accumulate_taps(t, x1 - x0, kTap[kx] * kTap[ky], inv_stride);
-                }
-            }
-            // An invalid pixel has weight sum 0 (its normal 0 zeroes every tap): it keeps its colour and variance.
-            PV_NO_ALIAS_LOOP
-            for (int x = xa; x < xb; ++x) {
-                const size_t i = ri + size_t(x);
-                const float keep = 1.f - valid[i];
-                const float inv = 1.f / (aw[x] + keep);
-                tmp[0][i] = (ar[x] + keep * col[0][i]) * inv;
-                tmp[1][i] = (ag[x] + keep * col[1][i]) * inv;
-                tmp[2][i] = (ab[x] + keep * col[2][i]) * inv;
-                tmpv[i] = (av[x] + keep * var[i]) * inv * inv;
-            }
-        };
-        // Offsets and weights of the eight outer taps, in the row path's order.
-        ptrdiff_t off[8];
-        float taps[8];
-        for (int ky = 0, t = 0; ky < 3; ++ky)
-            for (int kx = 0; kx < 3; ++kx)
-                if (kx != 1 || ky != 1) {
-                    off[t] = ptrdiff_t(ky - 1) * stride * w + (kx - 1) * stride;
-                    taps[t++] = kTap[kx] * kTap[ky];
-                }
-        const PassPlanes pp{nrm[0],
-                            nrm[1],
-                            nrm[2],
-                            z,
-                            inv_dz,
+        const PassPlanes pp{plane(kNx),
+                            plane(kNy),
+                            plane(kNz),
+                            plane(kZ),
+                            plane(kInvDz),
                             lum,
                             inv_sigma,
-                            valid,
+                            plane(kValid),
                             {col[0], col[1], col[2]},
                             var,
                             {tmp[0], tmp[1], tmp[2]},
                             tmpv};
-        for (int y = 0; y < h; ++y) {
-            const size_t ri = size_t(y) * size_t(w);
-            // Rows and columns whose taps all fall inside go through filter_interior; the rest, tap by tap.
-            const bool inner_row = y >= stride && y + stride < h && w > 2 * stride;
-            if (inner_row) {
-                filter_interior(pp, ri + size_t(stride), w - 2 * stride, off, taps, inv_stride);
-                row_path(y, 0, stride);
-                row_path(y, w - stride, w);
-            } else {
-                row_path(y, 0, w);
-            }
-        }
+        filter_pass(pp, PassShape{w, h, stride, 1.f / float(stride), m_rows.data()});
         for (int c = 0; c < 3; ++c) std::swap(col[c], tmp[c]);
         std::swap(var, tmpv);
     }

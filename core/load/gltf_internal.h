@@ -1,6 +1,7 @@
-// core/load/gltf_internal.h: the glTF loader's shared parts (core/load/gltf_loader.cpp: files, accessors, nodes,
-// meshes; core/load/gltf_materials.cpp: materials, textures, cameras). Private to those two files: it includes
-// tinygltf, which no public header of core/ may.
+// core/load/gltf_internal.h: the glTF loader's shared parts (core/load/gltf_loader.cpp: files, parsing;
+// core/load/gltf_meshes.cpp: nodes, meshes, lights; core/load/gltf_materials.cpp: materials, textures, cameras), with
+// the bounds-checked accessors. Private to those three files: it includes tinygltf, which no public header of core/
+// may.
 #pragma once
 
 #include <tiny_gltf.h>

@@ -13,7 +13,7 @@
 // the default scene is the start view (its yfov; pathview's own aspect), and every camera a node places is a bookmark
 // named after the camera (else its node). KHR_lights_punctual lights fill Scene::punctual_lights. A file whose
 // extensionsRequired names an extension pathview does not read is refused naming it; an extension only used and not
-// read gets one warning. Materials: see gltf_material() in gltf_loader.cpp and README (metallic-roughness, emission,
+// read gets one warning. Materials: see core/load/gltf_materials.cpp and README (metallic-roughness, emission,
 // alpha modes).
 #pragma once
 

@@ -125,157 +125,189 @@ uint32_t Loader::texture_of(const tinygltf::TextureInfo& info, const std::string
     return id;
 }
 
+namespace {
+
+// The factors of a glTF material and of its KHR material extensions, clamped to their ranges.
+GltfMaterial material_parameters(const tinygltf::Material& gm) {
+    const auto& pbr = gm.pbrMetallicRoughness;
+    GltfMaterial g;
+    if (pbr.baseColorFactor.size() == 4)
+        for (int c = 0; c < 4; ++c)
+            g.base_color[c] = glm::clamp(finite_or(pbr.baseColorFactor[size_t(c)], 1.f), 0.f, 1.f);
+    g.metallic = glm::clamp(finite_or(pbr.metallicFactor, 1.f), 0.f, 1.f);
+    g.roughness = glm::clamp(finite_or(pbr.roughnessFactor, 1.f), 0.f, 1.f);
+    if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_ior")) {
+        const float ior = finite_or(value_number(*e, "ior", 1.5), 1.5f);
+        g.ior = ior >= 1.f ? ior : 1.5f;  // 0 (the extension's "no refraction" value) and below 1: default
+    }
+    if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_specular")) {
+        g.specular = glm::clamp(finite_or(value_number(*e, "specularFactor", 1.0), 1.f), 0.f, 1.f);
+        double sc[3];
+        if (value_numbers(*e, "specularColorFactor", sc, 3))
+            g.specular_color =
+                glm::max(vec3(finite_or(sc[0], 1.f), finite_or(sc[1], 1.f), finite_or(sc[2], 1.f)), vec3(0.f));
+    }
+    if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_transmission"))
+        g.transmission = glm::clamp(finite_or(value_number(*e, "transmissionFactor", 0.0), 0.f), 0.f, 1.f);
+    if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_volume")) {
+        g.thickness = std::max(finite_or(value_number(*e, "thicknessFactor", 0.0), 0.f), 0.f);
+        double ac[3];
+        if (value_numbers(*e, "attenuationColor", ac, 3))
+            g.attenuation_color = glm::clamp(vec3(finite_or(ac[0], 1.f), finite_or(ac[1], 1.f), finite_or(ac[2], 1.f)),
+                                             vec3(0.f), vec3(1.f));
+        const float d = finite_or(value_number(*e, "attenuationDistance", 0.0), 0.f);
+        if (d > 0.f) g.attenuation_distance = d;
+    }
+    return g;
+}
+
+// A texture of linear data (metallic-roughness, normals) as its texels are stored in the file: the decoder's sRGB
+// decoding undone, in a copy of its own with the same wrap modes; one copy per source texture (`copies`), shared by
+// the materials that use it.
+uint32_t linear_copy(Scene& s, std::map<uint32_t, uint32_t>& copies, uint32_t src_index) {
+    if (const auto it = copies.find(src_index); it != copies.end()) return it->second;
+    const Texture& src = s.textures[src_index];
+    std::vector<vec4> texels = src.texels();
+    for (vec4& t : texels) t = vec4(linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z), t.w);
+    const TextureWrap ws = src.wrap_s(), wt = src.wrap_t();  // src moves when textures grows
+    s.textures.emplace_back(src.width(), src.height(), std::move(texels));
+    s.textures.back().set_wrap(ws, wt);
+    const uint32_t id = uint32_t(s.textures.size() - 1);
+    copies.emplace(src_index, id);
+    return id;
+}
+
+// What the base colour texture and its transform (buv) are: where a material reads them.
+struct BaseColor {
+    uint32_t texture = kNoIndex;
+    UvTransform uv;
+    // The uv transform other textures must have to be read at the mesh's uvs (which carry the base colour's).
+    UvTransform shared_uv() const { return texture != kNoIndex ? uv : UvTransform{}; }
+};
+
+// Base colour: the factor multiplies the texture (baked into a texture of its own when it is not white, since
+// Material::base_color_texture replaces the colour); alphaMode decides the cut-out.
+BaseColor set_base_color(Loader& L, const tinygltf::Material& gm, const GltfMaterial& g, const std::string& at,
+                         Material& m) {
+    Scene& s = *L.scene;
+    BaseColor base;
+    base.texture =
+        L.texture_of(gm.pbrMetallicRoughness.baseColorTexture, at + "/pbrMetallicRoughness/baseColorTexture", base.uv);
+    const bool mask = gm.alphaMode == "MASK", blend = gm.alphaMode == "BLEND";
+    const float cutoff = finite_or(gm.alphaCutoff, 0.5f);
+    if (base.texture != kNoIndex) {
+        const bool white = vec3(g.base_color) == vec3(1.f);
+        const bool alpha_used = mask || (blend && (g.base_color.w < 1.f || s.textures[base.texture].has_alpha()));
+        if (white && !alpha_used) {
+            m.base_color_texture = base.texture;
+        } else {
+            const Texture& src = s.textures[base.texture];
+            std::vector<vec4> texels = src.texels();
+            for (vec4& t : texels) {
+                t = vec4(vec3(t) * vec3(g.base_color), t.w * g.base_color.w);
+                if (mask) t.w = t.w >= cutoff ? 1.f : 0.f;
+            }
+            const TextureWrap ws = src.wrap_s(), wt = src.wrap_t();  // src moves when textures grows
+            s.textures.emplace_back(src.width(), src.height(), std::move(texels));
+            s.textures.back().set_wrap(ws, wt);
+            m.base_color_texture = uint32_t(s.textures.size() - 1);
+            if (alpha_used) m.alpha_texture = m.base_color_texture;
+        }
+    } else if ((mask && g.base_color.w < cutoff) || (blend && g.base_color.w < 1.f)) {
+        // A constant opacity: a 1x1 texture of it (MASK below the cut-off: the surface is not there).
+        const float a = mask ? 0.f : g.base_color.w;
+        s.textures.emplace_back(1, 1, std::vector<vec4>{vec4(vec3(g.base_color), a)});
+        m.alpha_texture = uint32_t(s.textures.size() - 1);
+    }
+    return base;
+}
+
+// metallicRoughnessTexture and normalTexture (linear data: linear_copy), read at the mesh's uvs, which carry the base
+// colour's transform: each used where its own transform and texCoord are the same. m.bsdf is set.
+void set_linear_textures(Loader& L, const tinygltf::Material& gm, const std::string& at, const BaseColor& base,
+                         std::map<uint32_t, uint32_t>& copies, Material& m) {
+    UvTransform muv;
+    const std::string mr_at = at + "/pbrMetallicRoughness/metallicRoughnessTexture";
+    const uint32_t mr_tex = L.texture_of(gm.pbrMetallicRoughness.metallicRoughnessTexture, mr_at, muv);
+    if (mr_tex != kNoIndex && std::holds_alternative<MetallicRoughness>(m.bsdf)) {
+        if (!(muv == base.shared_uv())) {
+            L.warn_once(mr_at, mr_at +
+                                   ": a texture transform or texCoord other than the base colour's is not "
+                                   "supported; the metallic and roughness factors are used");
+        } else {
+            m.metallic_roughness_texture = linear_copy(*L.scene, copies, mr_tex);
+            fit_bsdf_to_textures(m);  // the texel may lower metallic: every lobe of [0, factor]
+        }
+    }
+    if (gm.normalTexture.index >= 0) {
+        const std::string n_at = at + "/normalTexture";
+        tinygltf::TextureInfo info;
+        info.index = gm.normalTexture.index;
+        info.texCoord = gm.normalTexture.texCoord;
+        info.extensions = gm.normalTexture.extensions;
+        UvTransform nuv;
+        const uint32_t n_tex = L.texture_of(info, n_at, nuv);
+        if (n_tex != kNoIndex) {
+            if (!(nuv == base.shared_uv())) {
+                L.warn_once(n_at, n_at +
+                                      ": a texture transform or texCoord other than the base colour's is not "
+                                      "supported; the normal map is not used");
+            } else {
+                m.normal_texture = linear_copy(*L.scene, copies, n_tex);
+                const float sc = finite_or(gm.normalTexture.scale, 1.f);
+                m.normal_scale = sc;
+            }
+        }
+    }
+}
+
+// Emission: emissiveFactor x KHR_materials_emissive_strength (x emissiveTexture).
+void set_emission(Loader& L, const tinygltf::Material& gm, const std::string& at, const BaseColor& base, Material& m) {
+    vec3 e(0.f);
+    if (gm.emissiveFactor.size() == 3)
+        e = glm::max(vec3(finite_or(gm.emissiveFactor[0], 0.f), finite_or(gm.emissiveFactor[1], 0.f),
+                          finite_or(gm.emissiveFactor[2], 0.f)),
+                     vec3(0.f));
+    if (const tinygltf::Value* x = extension(gm.extensions, "KHR_materials_emissive_strength"))
+        e *= std::max(finite_or(value_number(*x, "emissiveStrength", 1.0), 1.f), 0.f);
+    m.emission = is_finite(e) ? e : vec3(0.f);
+    if (!m.has_emission()) return;
+    UvTransform euv;
+    m.emissive_texture = L.texture_of(gm.emissiveTexture, at + "/emissiveTexture", euv);
+    if (m.emissive_texture == kNoIndex) return;
+    // Set 0 holds the base colour texture's uvs (their transform applied); set 1 holds TEXCOORD_1 as is.
+    const uint32_t base_tex = base.texture;
+    const UvTransform& buv = base.uv;
+    if (euv == buv && base_tex != kNoIndex) {
+        m.emissive_uv = UvTransform{};
+    } else if (euv.set == 1 || base_tex == kNoIndex || buv.is_identity()) {
+        m.emissive_uv = to_pathview_uv(euv);
+    } else {
+        L.warn_once(at + "euv", at + "/emissiveTexture: its uv transform differs from the base colour "
+                                     "texture's on TEXCOORD_0; the base colour's is used");
+        m.emissive_uv = UvTransform{};
+    }
+}
+
+}  // namespace
+
+// Each glTF material in turn: its factors, base colour (and cut-out), BSDF, linear-data textures, emission.
 void Loader::convert_materials() {
-    Scene& s = *scene;
     base_uv.assign(model.materials.size(), UvTransform{});
-    // A texture of linear data (metallic-roughness, normals) as its texels are stored in the file: the decoder's sRGB
-    // decoding undone, in a copy of its own with the same wrap modes; one copy per source texture, shared by the
-    // materials that use it.
     std::map<uint32_t, uint32_t> linear_copies;
-    auto linear_copy = [&](uint32_t src_index) {
-        if (const auto it = linear_copies.find(src_index); it != linear_copies.end()) return it->second;
-        const Texture& src = s.textures[src_index];
-        std::vector<vec4> texels = src.texels();
-        for (vec4& t : texels) t = vec4(linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z), t.w);
-        const TextureWrap ws = src.wrap_s(), wt = src.wrap_t();  // src moves when textures grows
-        s.textures.emplace_back(src.width(), src.height(), std::move(texels));
-        s.textures.back().set_wrap(ws, wt);
-        const uint32_t id = uint32_t(s.textures.size() - 1);
-        linear_copies.emplace(src_index, id);
-        return id;
-    };
     for (size_t mi = 0; mi < model.materials.size(); ++mi) {
         const tinygltf::Material& gm = model.materials[mi];
         const std::string at = ptr({"materials", str(mi)});
-        const auto& pbr = gm.pbrMetallicRoughness;
-        GltfMaterial g;
-        if (pbr.baseColorFactor.size() == 4)
-            for (int c = 0; c < 4; ++c)
-                g.base_color[c] = glm::clamp(finite_or(pbr.baseColorFactor[size_t(c)], 1.f), 0.f, 1.f);
-        g.metallic = glm::clamp(finite_or(pbr.metallicFactor, 1.f), 0.f, 1.f);
-        g.roughness = glm::clamp(finite_or(pbr.roughnessFactor, 1.f), 0.f, 1.f);
-        if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_ior")) {
-            const float ior = finite_or(value_number(*e, "ior", 1.5), 1.5f);
-            g.ior = ior >= 1.f ? ior : 1.5f;  // 0 (the extension's "no refraction" value) and below 1: default
-        }
-        if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_specular")) {
-            g.specular = glm::clamp(finite_or(value_number(*e, "specularFactor", 1.0), 1.f), 0.f, 1.f);
-            double sc[3];
-            if (value_numbers(*e, "specularColorFactor", sc, 3))
-                g.specular_color =
-                    glm::max(vec3(finite_or(sc[0], 1.f), finite_or(sc[1], 1.f), finite_or(sc[2], 1.f)), vec3(0.f));
-        }
-        if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_transmission"))
-            g.transmission = glm::clamp(finite_or(value_number(*e, "transmissionFactor", 0.0), 0.f), 0.f, 1.f);
-        if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_volume")) {
-            g.thickness = std::max(finite_or(value_number(*e, "thicknessFactor", 0.0), 0.f), 0.f);
-            double ac[3];
-            if (value_numbers(*e, "attenuationColor", ac, 3))
-                g.attenuation_color = glm::clamp(
-                    vec3(finite_or(ac[0], 1.f), finite_or(ac[1], 1.f), finite_or(ac[2], 1.f)), vec3(0.f), vec3(1.f));
-            const float d = finite_or(value_number(*e, "attenuationDistance", 0.0), 0.f);
-            if (d > 0.f) g.attenuation_distance = d;
-        }
-
+        const GltfMaterial g = material_parameters(gm);
         Material m;
         m.name = gm.name.empty() ? "material " + str(mi) : gm.name;
-        // Base colour: the factor multiplies the texture (baked into a texture of its own when it is not white,
-        // since Material::base_color_texture replaces the colour); alphaMode decides the cut-out.
-        UvTransform buv;
-        const uint32_t base_tex = texture_of(pbr.baseColorTexture, at + "/pbrMetallicRoughness/baseColorTexture", buv);
-        const bool mask = gm.alphaMode == "MASK", blend = gm.alphaMode == "BLEND";
-        const float cutoff = finite_or(gm.alphaCutoff, 0.5f);
-        if (base_tex != kNoIndex) {
-            base_uv[mi] = buv;
-            const bool white = vec3(g.base_color) == vec3(1.f);
-            const bool alpha_used = mask || (blend && (g.base_color.w < 1.f || s.textures[base_tex].has_alpha()));
-            if (white && !alpha_used) {
-                m.base_color_texture = base_tex;
-            } else {
-                const Texture& src = s.textures[base_tex];
-                std::vector<vec4> texels = src.texels();
-                for (vec4& t : texels) {
-                    t = vec4(vec3(t) * vec3(g.base_color), t.w * g.base_color.w);
-                    if (mask) t.w = t.w >= cutoff ? 1.f : 0.f;
-                }
-                const TextureWrap ws = src.wrap_s(), wt = src.wrap_t();  // src moves when textures grows
-                s.textures.emplace_back(src.width(), src.height(), std::move(texels));
-                s.textures.back().set_wrap(ws, wt);
-                m.base_color_texture = uint32_t(s.textures.size() - 1);
-                if (alpha_used) m.alpha_texture = m.base_color_texture;
-            }
-        } else if ((mask && g.base_color.w < cutoff) || (blend && g.base_color.w < 1.f)) {
-            // A constant opacity: a 1x1 texture of it (MASK below the cut-off: the surface is not there).
-            const float a = mask ? 0.f : g.base_color.w;
-            s.textures.emplace_back(1, 1, std::vector<vec4>{vec4(vec3(g.base_color), a)});
-            m.alpha_texture = uint32_t(s.textures.size() - 1);
-        }
+        const BaseColor base = set_base_color(*this, gm, g, at, m);
+        if (base.texture != kNoIndex) base_uv[mi] = base.uv;
         m.bsdf = gltf_bsdf(g);
-        // metallicRoughnessTexture (linear data: linear_copy), read
-        // at the mesh's uvs, which carry the base colour's transform: used where its own transform is the same.
-        UvTransform muv;
-        const std::string mr_at = at + "/pbrMetallicRoughness/metallicRoughnessTexture";
-        const uint32_t mr_tex = texture_of(pbr.metallicRoughnessTexture, mr_at, muv);
-        if (mr_tex != kNoIndex && std::holds_alternative<MetallicRoughness>(m.bsdf)) {
-            if (!(muv == (base_tex != kNoIndex ? buv : UvTransform{}))) {
-                warn_once(mr_at, mr_at +
-                                     ": a texture transform or texCoord other than the base colour's is not "
-                                     "supported; the metallic and roughness factors are used");
-            } else {
-                m.metallic_roughness_texture = linear_copy(mr_tex);
-                fit_bsdf_to_textures(m);  // the texel may lower metallic: every lobe of [0, factor]
-            }
-        }
-        // normalTexture (linear data, like the metallicRoughnessTexture), read at the base colour's uvs: used where
-        // its own transform and texCoord are the same.
-        if (gm.normalTexture.index >= 0) {
-            const std::string n_at = at + "/normalTexture";
-            tinygltf::TextureInfo info;
-            info.index = gm.normalTexture.index;
-            info.texCoord = gm.normalTexture.texCoord;
-            info.extensions = gm.normalTexture.extensions;
-            UvTransform nuv;
-            const uint32_t n_tex = texture_of(info, n_at, nuv);
-            if (n_tex != kNoIndex) {
-                if (!(nuv == (base_tex != kNoIndex ? buv : UvTransform{}))) {
-                    warn_once(n_at, n_at +
-                                        ": a texture transform or texCoord other than the base colour's is not "
-                                        "supported; the normal map is not used");
-                } else {
-                    m.normal_texture = linear_copy(n_tex);
-                    const float sc = finite_or(gm.normalTexture.scale, 1.f);
-                    m.normal_scale = sc;
-                }
-            }
-        }
-
-        // Emission: emissiveFactor x KHR_materials_emissive_strength (x emissiveTexture).
-        vec3 e(0.f);
-        if (gm.emissiveFactor.size() == 3)
-            e = glm::max(vec3(finite_or(gm.emissiveFactor[0], 0.f), finite_or(gm.emissiveFactor[1], 0.f),
-                              finite_or(gm.emissiveFactor[2], 0.f)),
-                         vec3(0.f));
-        if (const tinygltf::Value* x = extension(gm.extensions, "KHR_materials_emissive_strength"))
-            e *= std::max(finite_or(value_number(*x, "emissiveStrength", 1.0), 1.f), 0.f);
-        m.emission = is_finite(e) ? e : vec3(0.f);
-        if (m.has_emission()) {
-            UvTransform euv;
-            m.emissive_texture = texture_of(gm.emissiveTexture, at + "/emissiveTexture", euv);
-            // Set 0 holds the base colour texture's uvs (their transform applied); set 1 holds TEXCOORD_1 as is.
-            if (m.emissive_texture != kNoIndex) {
-                if (euv == buv && base_tex != kNoIndex) {
-                    m.emissive_uv = UvTransform{};
-                } else if (euv.set == 1 || base_tex == kNoIndex || buv.is_identity()) {
-                    m.emissive_uv = to_pathview_uv(euv);
-                } else {
-                    warn_once(at + "euv", at + "/emissiveTexture: its uv transform differs from the base colour "
-                                               "texture's on TEXCOORD_0; the base colour's is used");
-                    m.emissive_uv = UvTransform{};
-                }
-            }
-        }
+        set_linear_textures(*this, gm, at, base, linear_copies, m);
+        set_emission(*this, gm, at, base, m);
         m.two_sided_emission = gm.doubleSided;
-        s.materials.push_back(std::move(m));
+        scene->materials.push_back(std::move(m));
     }
 }
 

@@ -16,6 +16,7 @@
 #include "core/base/error.h"
 #include "core/base/file_io.h"
 #include "core/scene/material_params.h"
+#include "core/scene/texture_decode.h"
 
 namespace pv {
 namespace {
@@ -184,24 +185,24 @@ private:
     std::string m_dir;
 };
 
-Scene build_scene(std::string text, const std::string& file, const std::string& mtl_dir, const ObjOptions& options) {
-    // A UTF-8 byte-order mark would make tinyobjloader skip the first line.
-    Scene scene;
-    scene.source = file;
-    if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) {
-        text.erase(0, 3);
-        scene.warnings.push_back(file + ": UTF-8 byte-order mark ignored");
-    }
-    const PreScan ps = prescan(text, file);
-
+// tinyobjloader's result.
+struct ObjParse {
     tinyobj::attrib_t attrib;
     std::vector<tinyobj::shape_t> shapes;
     std::vector<tinyobj::material_t> mtls;
+};
+
+// Parses the (pre-scanned) text with tinyobjloader, reading `mtllib` files from mtl_dir (none if empty); forwards its
+// warnings, and throws its error.
+ObjParse parse_obj(std::string& text, const std::string& file, const std::string& mtl_dir,
+                   std::vector<std::string>& warnings) {
+    ObjParse parsed;
     std::string warn, err;
     StringBuf buf(text);
     std::istream in(&buf);
     RegularMtlReader reader(mtl_dir);
-    const bool ok = tinyobj::LoadObj(&attrib, &shapes, &mtls, &warn, &err, &in, mtl_dir.empty() ? nullptr : &reader,
+    const bool ok = tinyobj::LoadObj(&parsed.attrib, &parsed.shapes, &parsed.mtls, &warn, &err, &in,
+                                     mtl_dir.empty() ? nullptr : &reader,
                                      /*triangulate=*/true, /*default_vcols_fallback=*/false);
     if (!ok) {
         std::string msg = err;
@@ -210,10 +211,14 @@ Scene build_scene(std::string text, const std::string& file, const std::string& 
             if (c == '\n') c = ' ';
         throw Error(file + ": cannot parse OBJ: " + (msg.empty() ? "unknown error" : msg));
     }
-    add_warnings(scene.warnings, file, warn);
-    if (!err.empty()) add_warnings(scene.warnings, file, err);
+    add_warnings(warnings, file, warn);
+    if (!err.empty()) add_warnings(warnings, file, err);
+    return parsed;
+}
 
-    // Materials, and the textures they name (each file loaded once).
+// Materials, and the textures they name (each file loaded once).
+void add_materials(const std::vector<tinyobj::material_t>& mtls, const std::string& file, const std::string& mtl_dir,
+                   const ObjOptions& options, Scene& scene) {
     std::map<std::string, uint32_t> texture_cache;
     auto texture = [&](const std::string& name, const std::string& material, bool alpha) -> uint32_t {
         if (name.empty()) return kNoIndex;
@@ -247,33 +252,51 @@ Scene build_scene(std::string text, const std::string& file, const std::string& 
         }
         scene.materials.push_back(std::move(mat));
     }
-    uint32_t default_material = kNoIndex;
+}
 
-    // Positions: copy, zeroing the bad ones (their triangles are dropped below).
+// Which vertex attributes are unusable: per position (non-finite or beyond kMaxCoordinate) and per normal (zero or
+// non-finite length).
+struct VertexFlags {
+    std::vector<uint8_t> bad;
+    std::vector<uint8_t> bad_n;
+};
+
+// Copies positions (zeroing the bad ones: their triangles are dropped by add_faces), unit normals and uvs.
+VertexFlags add_vertices(const tinyobj::attrib_t& attrib, const PreScan& ps, Scene& scene) {
+    VertexFlags flags;
     const size_t nv = attrib.vertices.size() / 3;
     scene.positions.resize(nv);
-    std::vector<uint8_t> bad(nv, 0);
+    flags.bad.assign(nv, 0);
     for (size_t i = 0; i < nv; ++i) {
         const vec3 p(attrib.vertices[3 * i], attrib.vertices[3 * i + 1], attrib.vertices[3 * i + 2]);
         const bool b = (i < ps.bad_vertex.size() && ps.bad_vertex[i]) || !is_finite(p) ||
                        max_component(glm::abs(p)) > kMaxCoordinate;
-        bad[i] = b ? 1 : 0;
+        flags.bad[i] = b ? 1 : 0;
         scene.positions[i] = b ? vec3(0.f) : p;
     }
     // Normals: unit length, or marked unusable.
     const size_t nn = attrib.normals.size() / 3;
     scene.normals.resize(nn);
-    std::vector<uint8_t> bad_n(nn, 0);
+    flags.bad_n.assign(nn, 0);
     for (size_t i = 0; i < nn; ++i) {
         const vec3 n(attrib.normals[3 * i], attrib.normals[3 * i + 1], attrib.normals[3 * i + 2]);
         const float l2 = glm::dot(n, n);
-        bad_n[i] = (l2 > 1e-20f && std::isfinite(l2)) ? 0 : 1;
-        scene.normals[i] = bad_n[i] ? vec3(0.f, 0.f, 1.f) : n / std::sqrt(l2);
+        flags.bad_n[i] = (l2 > 1e-20f && std::isfinite(l2)) ? 0 : 1;
+        scene.normals[i] = flags.bad_n[i] ? vec3(0.f, 0.f, 1.f) : n / std::sqrt(l2);
     }
     const size_t nt = attrib.texcoords.size() / 2;
     scene.uvs.resize(nt);
     for (size_t i = 0; i < nt; ++i) scene.uvs[i] = vec2(attrib.texcoords[2 * i], attrib.texcoords[2 * i + 1]);
+    return flags;
+}
+
+// The shapes' triangles with their material, normal and uv indices; drops (and counts in scene.stats) non-triangles,
+// triangles on bad vertices, overflowing and zero-area ones; faces without a known material get a default one.
+void add_faces(const std::vector<tinyobj::shape_t>& shapes, const VertexFlags& flags, const std::string& file,
+               Scene& scene) {
+    const size_t nv = scene.positions.size(), nn = scene.normals.size(), nt = scene.uvs.size();
     const bool any_normals = nn > 0, any_uvs = nt > 0;
+    uint32_t default_material = kNoIndex;
 
     size_t tri_total = 0;
     for (const auto& sh : shapes) tri_total += sh.mesh.num_face_vertices.size();
@@ -300,8 +323,9 @@ Scene build_scene(std::string text, const std::string& file, const std::string& 
                                 std::to_string(idx.vertex_index + 1) + " of " + std::to_string(nv));
                 }
                 vi[k] = static_cast<uint32_t>(idx.vertex_index);
-                if (bad[vi[k]]) skip = true;
-                if (idx.normal_index < 0 || static_cast<size_t>(idx.normal_index) >= nn || bad_n[idx.normal_index])
+                if (flags.bad[vi[k]]) skip = true;
+                if (idx.normal_index < 0 || static_cast<size_t>(idx.normal_index) >= nn ||
+                    flags.bad_n[idx.normal_index])
                     normals_ok = false;
                 else
                     ni[k] = static_cast<uint32_t>(idx.normal_index);
@@ -344,7 +368,10 @@ Scene build_scene(std::string text, const std::string& file, const std::string& 
             if (any_uvs) scene.uv_indices.push_back(uvs_ok ? ti : uvec3(kNoIndex));
         }
     }
+}
 
+// One warning per kind of dropped or repaired triangle counted in scene.stats.
+void add_stats_warnings(const PreScan& ps, const std::string& file, Scene& scene) {
     const LoadStats& st = scene.stats;
     if (ps.first_bad_line) {
         scene.warnings.push_back(file + ":" + std::to_string(ps.first_bad_line) + ": vertex '" + ps.first_bad_text +
@@ -370,8 +397,25 @@ Scene build_scene(std::string text, const std::string& file, const std::string& 
         scene.warnings.push_back(file + ": " + std::to_string(st.bad_normals) +
                                  " triangle(s) have missing or zero normals; geometric normals used");
     if (scene.triangles.empty()) scene.warnings.push_back(file + ": the scene has no triangles");
-    if (!any_normals) scene.normal_indices.clear();
-    if (!any_uvs) scene.uv_indices.clear();
+}
+
+// The stages: pre-scan (line-accurate errors), parse, materials and textures, vertices, faces, warnings.
+Scene build_scene(std::string text, const std::string& file, const std::string& mtl_dir, const ObjOptions& options) {
+    Scene scene;
+    scene.source = file;
+    // A UTF-8 byte-order mark would make tinyobjloader skip the first line.
+    if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) {
+        text.erase(0, 3);
+        scene.warnings.push_back(file + ": UTF-8 byte-order mark ignored");
+    }
+    const PreScan ps = prescan(text, file);
+    const ObjParse parsed = parse_obj(text, file, mtl_dir, scene.warnings);
+    add_materials(parsed.mtls, file, mtl_dir, options, scene);
+    const VertexFlags flags = add_vertices(parsed.attrib, ps, scene);
+    add_faces(parsed.shapes, flags, file, scene);
+    add_stats_warnings(ps, file, scene);
+    if (scene.normals.empty()) scene.normal_indices.clear();
+    if (scene.uvs.empty()) scene.uv_indices.clear();
     return scene;
 }
 

@@ -167,6 +167,64 @@ std::vector<Portal> read_portals(const JsonReader& r, const json& j, const Ptr& 
     return portals;
 }
 
+// The file's "bookmarks", after the model's cameras; keys a bookmark lacks keep the start view's values.
+void add_bookmarks(const JsonReader& r, const JsonReader& rs, const json& list, const Ptr& list_at, Scene& scene) {
+    for (size_t i = 0; i < list.size(); ++i) {
+        const Ptr at = list_at / i;
+        const json& b = rs.object(list[i], at, {});
+        std::string name = "view " + std::to_string(scene.bookmarks.size() + 1);
+        if (b.contains("name")) {
+            name = r.string(b["name"], at / "name");
+            if (name.empty()) r.fail(at / "name", "empty; expected the bookmark's name (a non-empty string)");
+        } else {
+            scene.warnings.push_back(r.file + ": " + at.to_string() +
+                                     ": no \"name\"; expected the bookmark's name (a non-empty string); "
+                                     "listed as '" +
+                                     name + "'");
+        }
+        scene.bookmarks.push_back(Scene::Bookmark{name, read_camera(rs, b, at, scene.camera, true)});
+    }
+}
+
+// "environment" and "sun" (objects, checked) over the scene's environment; a map is named relative to `dir`.
+void apply_lighting(const JsonReader& r, const json& env, const json& sun, const std::filesystem::path& dir,
+                    Scene& scene) {
+    const Ptr root;
+    if (env.contains("map")) {
+        const std::string map = r.string(env["map"], root / "environment" / "map");
+        add_environment_map(scene, map == "sky" ? map : (dir / map).string());  // "sky": the default sky
+    }
+    if (env.contains("color"))
+        scene.environment.background = r.vec(env["color"], root / "environment" / "color", 0.f, kBig);
+    if (env.contains("rotation"))
+        scene.environment.rotation_deg = r.number(env["rotation"], root / "environment" / "rotation", -kBig, kBig);
+    if (env.contains("strength"))
+        scene.environment.strength = r.number(env["strength"], root / "environment" / "strength", 0.f, kBig);
+    if (sun.contains("direction"))
+        scene.environment.sun_direction = r.direction(sun["direction"], root / "sun" / "direction");
+    if (sun.contains("angular_radius"))
+        scene.environment.sun_angular_radius_deg =
+            r.number(sun["angular_radius"], root / "sun" / "angular_radius", 0.01f, 45.f);
+    if (sun.contains("irradiance")) {
+        const json& e = sun["irradiance"];
+        const Ptr at = root / "sun" / "irradiance";
+        scene.environment.sun_irradiance = e.is_number() ? vec3(r.number(e, at, 0.f, kBig)) : r.vec(e, at, 0.f, kBig);
+    }
+}
+
+// "materials": each key overrides the materials of that name (rs warns about unknown keys).
+void apply_material_overrides(const JsonReader& rs, const json& materials, const Ptr& at, Scene& scene) {
+    for (const auto& [name, o] : materials.items()) {
+        bool found = false;
+        for (Material& m : scene.materials)
+            if (m.name == name) {
+                apply_override(m, rs, o, at / name);
+                found = true;
+            }
+        if (!found) scene.warnings.push_back(rs.file + ": material override '" + name + "' matches no material");
+    }
+}
+
 }  // namespace
 
 Scene load_scene_json_text(const std::string& text, const std::string& path) {
@@ -220,53 +278,9 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
         scene.camera = read_camera(r, cam, root / "camera", scene.camera, false);
         scene.has_camera = true;
     }
-    if (j.contains("bookmarks")) {
-        const json& list = j["bookmarks"];
-        for (size_t i = 0; i < list.size(); ++i) {
-            const Ptr at = root / "bookmarks" / i;
-            const json& b = rs.object(list[i], at, {});
-            std::string name = "view " + std::to_string(scene.bookmarks.size() + 1);
-            if (b.contains("name")) {
-                name = r.string(b["name"], at / "name");
-                if (name.empty()) r.fail(at / "name", "empty; expected the bookmark's name (a non-empty string)");
-            } else {
-                scene.warnings.push_back(path + ": " + at.to_string() +
-                                         ": no \"name\"; expected the bookmark's name (a non-empty string); "
-                                         "listed as '" +
-                                         name + "'");
-            }
-            scene.bookmarks.push_back(Scene::Bookmark{name, read_camera(rs, b, at, scene.camera, true)});
-        }
-    }
-    if (env.contains("map")) {
-        const std::string map = r.string(env["map"], root / "environment" / "map");
-        add_environment_map(scene, map == "sky" ? map : (dir / map).string());  // "sky": the default sky
-    }
-    if (env.contains("color"))
-        scene.environment.background = r.vec(env["color"], root / "environment" / "color", 0.f, kBig);
-    if (env.contains("rotation"))
-        scene.environment.rotation_deg = r.number(env["rotation"], root / "environment" / "rotation", -kBig, kBig);
-    if (env.contains("strength"))
-        scene.environment.strength = r.number(env["strength"], root / "environment" / "strength", 0.f, kBig);
-    if (sun.contains("direction"))
-        scene.environment.sun_direction = r.direction(sun["direction"], root / "sun" / "direction");
-    if (sun.contains("angular_radius"))
-        scene.environment.sun_angular_radius_deg =
-            r.number(sun["angular_radius"], root / "sun" / "angular_radius", 0.01f, 45.f);
-    if (sun.contains("irradiance")) {
-        const json& e = sun["irradiance"];
-        const Ptr at = root / "sun" / "irradiance";
-        scene.environment.sun_irradiance = e.is_number() ? vec3(r.number(e, at, 0.f, kBig)) : r.vec(e, at, 0.f, kBig);
-    }
-    for (const auto& [name, o] : materials.items()) {
-        bool found = false;
-        for (Material& m : scene.materials)
-            if (m.name == name) {
-                apply_override(m, rs, o, root / "materials" / name);
-                found = true;
-            }
-        if (!found) scene.warnings.push_back(path + ": material override '" + name + "' matches no material");
-    }
+    if (j.contains("bookmarks")) add_bookmarks(r, rs, j["bookmarks"], root / "bookmarks", scene);
+    apply_lighting(r, env, sun, dir, scene);
+    apply_material_overrides(rs, materials, root / "materials", scene);
     use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment") || j.contains("sun") ||
                                         !scene.punctual_lights.empty());
     pack_texels(scene.textures);  // the surfaces' textures and the map in one region, on huge pages

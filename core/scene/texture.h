@@ -62,6 +62,7 @@ public:
     // they are (a lookup decodes them; the same values as the float constructor gives for their decodings).
     Texture(int width, int height, std::vector<uint32_t> codes);
 
+    // Image files (core/scene/texture_decode.cpp, which is the untrusted part; texture_decode.h finds the files).
     // Loads PNG/JPG/TGA/BMP/PSD/GIF/PNM (sRGB colour, linear alpha) through stb_image, Radiance HDR (linear)
     // through stb_image after checking its run-length data, or EXR (linear RGB, negatives and NaN set to 0) through
     // OpenEXR. The format is told by the file's first bytes. Regular files only; the declared size is checked
@@ -135,9 +136,5 @@ void pack_texels(std::vector<Texture>& textures);
 
 // The linear value of 8-bit sRGB code c in [0, 255] (IEC 61966-2-1), as 8-bit images are decoded.
 float srgb_code_to_linear(int c);
-
-// Finds `name` relative to `dir`: exactly, else a case-insensitive match of each path component (archive scenes
-// name "SP_LUK.JPG" for "sp_luk.JPG"). Returns the path found, or an empty string.
-std::string resolve_texture_path(const std::string& dir, const std::string& name);
 
 }  // namespace pv
