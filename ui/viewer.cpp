@@ -61,6 +61,8 @@ private:
     void handle_drops();
     void upload_difference();
     void log_error_vs_b();
+    bool take_latest();
+    void show_first_pass(double frame_start);
 
     // Members are destroyed in reverse order: loads, writes and render threads end before the GL context goes.
     const ViewerOptions& m_opt;
@@ -196,6 +198,35 @@ void Viewer::handle_drops() {
     if (!m_state.drop_ok) std::fprintf(stderr, "%s\n", m_state.drop_status.c_str());
 }
 
+// Takes the renderer's newest pass, if there is one, onto the screen's textures and the comparison; true if it did.
+bool Viewer::take_latest() {
+    if (!m_image.update([this](Snapshot& s) { return m_renderer->latest(s); })) return false;
+    m_display->upload(m_image.displayed(), m_state.display.denoise);
+    m_frame_stats.pass_shown(m_state.display.denoise && !m_image.displayed().denoised.empty() &&
+                             m_image.displayed().denoised_spp == m_image.displayed().spp);
+    m_compare.update(m_image.shown());
+    log_error_vs_b();
+    upload_difference();
+    // The next change restarts at the finest resolution whose first frame is predicted to be ready within
+    // three quarters of a display refresh (the rest is the UI's frame).
+    const Snapshot& s = m_image.shown();
+    if (m_full_w > 0)
+        m_schedule.measured_first_pass(s.first_ready_ms * 1e-3, s.width * s.height, double(m_full_w) * m_full_h,
+                                       0.75 / m_window.refresh_hz());
+    return true;
+}
+
+// A restart was posted in this frame: its first pass, sized to be ready within three quarters of a refresh
+// (RefinementSchedule), is waited for until this refresh ends and drawn in this very frame, instead of the frame
+// drawing the old image and the next one the new: input to frame loses one frame's drawing. Never longer than a
+// refresh: a slower pass is shown by a later frame, as before.
+void Viewer::show_first_pass(double frame_start) {
+    const double left = frame_start + 1.0 / m_window.refresh_hz() - glfwGetTime();
+    if (left <= 0.0) return;
+    const auto timeout = std::chrono::milliseconds(std::max(1L, long(left * 1e3)));
+    if (m_renderer->wait_for(m_schedule.posted_generation(), 1, timeout)) take_latest();
+}
+
 bool Viewer::wait_for_work() {
     // Minimised: pause rendering and sleep until the window comes back.
     GLFWwindow* window = m_window.get();
@@ -233,21 +264,7 @@ bool Viewer::wait_for_work() {
     glfwPollEvents();
 
     bool work = continuous || m_input.any || m_schedule.deferral_expired(glfwGetTime());
-    if (m_image.update([this](Snapshot& s) { return m_renderer->latest(s); })) {
-        m_display->upload(m_image.displayed(), m_state.display.denoise);
-        m_frame_stats.pass_shown(m_state.display.denoise && !m_image.displayed().denoised.empty() &&
-                                 m_image.displayed().denoised_spp == m_image.displayed().spp);
-        m_compare.update(m_image.shown());
-        log_error_vs_b();
-        upload_difference();
-        // The next change restarts at the finest resolution whose first frame is predicted to be ready within
-        // three quarters of a display refresh (the rest is the UI's frame).
-        const Snapshot& s = m_image.shown();
-        if (m_full_w > 0)
-            m_schedule.measured_first_pass(s.first_ready_ms * 1e-3, s.width * s.height, double(m_full_w) * m_full_h,
-                                           0.75 / m_window.refresh_hz());
-        work = true;
-    }
+    if (take_latest()) work = true;
     if (m_snapshots.save_partial(m_renderer->take_partial(), m_state)) work = true;
     if (std::string refusal = m_renderer->take_partial_refusal(); !refusal.empty()) {
         m_state.snapshot_status = std::move(refusal);
@@ -329,7 +346,9 @@ int Viewer::run() {
             else
                 resized = true;
         }
+        const uint64_t posted_before = m_schedule.posted_generation();
         restart_on_change(act, nav.camera_moved, resized, start);
+        if (m_schedule.posted_generation() != posted_before) show_first_pass(start);
 
         // 5. The accumulation through the display pass, in the image region.
         glViewport(0, 0, fb_w, fb_h);

@@ -108,7 +108,7 @@ public:
     // The generation of the latest snapshot (0 before the first); cheap, for the viewer's frame pacing.
     uint64_t published_generation() const;
     // Blocks until a snapshot of `generation` with spp >= min_spp is published, or the timeout passes
-    // (tests and tools; the viewer never waits).
+    // (tests and tools; the viewer, at most the rest of a display refresh after posting a restart).
     bool wait_for(uint64_t generation, uint32_t min_spp, std::chrono::milliseconds timeout) const;
     // Asks for the accumulation as a resumable partial render (core/frame/partial.h; samples [0, spp)), made by the
     // driver between passes, also while paused or stopped (after the first pass of a new accumulation). Once it is
