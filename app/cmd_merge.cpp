@@ -11,6 +11,7 @@
 #include "core/base/error.h"
 #include "core/base/file_io.h"
 #include "core/frame/partial.h"
+#include "core/frame/partial_merge.h"
 #include "core/image/image_io.h"
 
 namespace pv::app {

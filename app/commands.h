@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/frame/adaptive.h"
 #include "core/image/image_io.h"
@@ -27,6 +28,9 @@ struct CommonOptions {
     std::vector<float> sun;  // direction toward the sun
     std::optional<float> sun_irradiance, sun_radius;
     double max_image_megapixels = double(ImageLimits{}.max_pixels) * 1e-6;  // memory budget of one image
+    // The flags add_common_options registered that define the image (size, settings, camera, scene overrides):
+    // those that `render --resume` takes from the part.
+    std::vector<std::string> image_flags;
 };
 
 // A CLI11 check: a finite number in [lo, hi] (CLI::Range lets NaN through and accepts inf).
