@@ -12,6 +12,7 @@
 #include "core/image/film.h"
 #include "core/image/image_io.h"
 #include "core/load/scene_file.h"
+#include "core/scene/environment.h"
 
 namespace pv::app {
 namespace {
@@ -225,7 +226,7 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
         ->check(finite_range(0.001, 1e6))
         ->capture_default_str();
     image(cmd.add_option("--sun-radius", o.sun_radius, "Sun angular radius, degrees (default 0.27)")
-              ->check(finite_range(0.01, 45)));
+              ->check(finite_range(kSunRadiusMinDeg, kSunRadiusMaxDeg)));
 }
 
 void resolve_switches(CommonOptions& o) {

@@ -15,6 +15,10 @@
 // environment), pathview:settings, pathview:partial:camera (exact), pathview:samples ("0:16,32:16"), pathview:spp,
 // pathview:rel_mse_estimate (Film::estimated_rel_mse of the file's sums), plus informational ones (scene path,
 // seconds, rays, dropped samples) that a merge sums or keeps.
+//
+// The concerns live beside this file: the sample ranges (partial_ranges.h), the identity's text: version, settings,
+// camera (render_identity.h), the scene hash (scene_hash.h) and the merge (partial_merge.h). This header includes
+// all but the merge.
 #pragma once
 
 #include <cstdint>

@@ -252,7 +252,7 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
         scene.environment.sun_direction = r.direction(sun["direction"], root / "sun" / "direction");
     if (sun.contains("angular_radius"))
         scene.environment.sun_angular_radius_deg =
-            r.number(sun["angular_radius"], root / "sun" / "angular_radius", 0.01f, 45.f);
+            r.number(sun["angular_radius"], root / "sun" / "angular_radius", kSunRadiusMinDeg, kSunRadiusMaxDeg);
     if (sun.contains("irradiance")) {
         const json& e = sun["irradiance"];
         const Ptr at = root / "sun" / "irradiance";
