@@ -394,9 +394,7 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("-o,--output", o->outs, "Output file: .exr or .png; repeat -o to write several")
         ->required()
         ->take_all();
-    cmd->add_option("--exposure", o->exposure, "Exposure in stops applied before writing")
-        ->check(finite_range(-64, 64))
-        ->capture_default_str();
+    add_exposure_option(*cmd, o->exposure, "Exposure in stops applied before writing");
     cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
     auto* samples = cmd->add_option("--samples", o->samples,
                                     "Render only the sample indices START..START+COUNT-1 (START:COUNT; with --time, "

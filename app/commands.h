@@ -40,6 +40,10 @@ void check_film_memory(int width, int height);
 // The same for `pathview merge`: the output film of width x height parts (pv::Error naming `part`).
 void check_merge_memory(const std::string& part, int width, int height);
 
+// --exposure (stops, applied before writing) and --max-image-megapixels (the budget of one image read), shared by
+// render and merge (the budget also by view and bench, through add_common_options) with each one's help.
+CLI::Option* add_exposure_option(CLI::App& cmd, float& stops, const std::string& help);
+CLI::Option* add_image_budget_option(CLI::App& cmd, double& megapixels, const std::string& help);
 // Adds the shared options to a (sub)command.
 void add_common_options(CLI::App& cmd, CommonOptions& o);
 // After parsing: caps --threads at the cores this process may use (saying so) and applies the image budget.

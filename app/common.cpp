@@ -154,6 +154,16 @@ void check_merge_memory(const std::string& part, int width, int height) {
         throw Error(part + ": " + std::to_string(width) + "x" + std::to_string(height) + " parts need " + s);
 }
 
+CLI::Option* add_exposure_option(CLI::App& cmd, float& stops, const std::string& help) {
+    return cmd.add_option("--exposure", stops, help)->check(finite_range(-64, 64))->capture_default_str();
+}
+
+CLI::Option* add_image_budget_option(CLI::App& cmd, double& megapixels, const std::string& help) {
+    return cmd.add_option("--max-image-megapixels", megapixels, help)
+        ->check(finite_range(0.001, 1e6))
+        ->capture_default_str();
+}
+
 void add_common_options(CLI::App& cmd, CommonOptions& o) {
     // An option that defines the image (size, settings, camera, scene overrides): --resume takes it from the part.
     o.image_flags.clear();
@@ -220,11 +230,9 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
     image(cmd.add_option("--sun-irradiance", o.sun_irradiance,
                          "Sun irradiance on a surface facing it (default 5 with --sun)")
               ->check(finite_range(0, 1e30)));
-    cmd.add_option("--max-image-megapixels", o.max_image_megapixels,
-                   "Largest environment map or texture read, in megapixels (a 16384x8192 map is 134); larger or "
-                   "implausibly small files are refused before decoding")
-        ->check(finite_range(0.001, 1e6))
-        ->capture_default_str();
+    add_image_budget_option(cmd, o.max_image_megapixels,
+                            "Largest environment map or texture read, in megapixels (a 16384x8192 map is 134); larger "
+                            "or implausibly small files are refused before decoding");
     image(cmd.add_option("--sun-radius", o.sun_radius, "Sun angular radius, degrees (default 0.27)")
               ->check(finite_range(kSunRadiusMinDeg, kSunRadiusMaxDeg)));
 }
