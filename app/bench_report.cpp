@@ -76,9 +76,8 @@ std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSett
                         c.settings.light_sampling = std::string(e) != "bsdf";
                         c.settings.mis = std::string(e) == "mis";
                         c.settings.russian_roulette = std::string(r) == "rr";
-                        c.settings.sampler = std::string(s) == "sobol" ? SamplerKind::Sobol : SamplerKind::Independent;
-                        c.settings.light_sampler =
-                            std::string(l) == "tree" ? LightSamplerKind::Tree : LightSamplerKind::Power;
+                        c.settings.sampler = *parse_sampler(s);
+                        c.settings.light_sampler = *value_of(kLightSamplerNames, l);
                         const bool dup =
                             std::any_of(out.begin(), out.end(), [&](const BenchConfig& o) { return o.name == c.name; });
                         if (!dup) out.push_back(c);

@@ -11,6 +11,7 @@
 #include "core/base/error.h"
 #include "core/base/file_io.h"
 #include "core/frame/partial.h"
+#include "core/frame/partial_merge.h"
 #include "core/image/image_io.h"
 
 namespace pv::app {
@@ -83,14 +84,10 @@ void add_merge_command(CLI::App& app) {
     cmd->add_option("--require", o->require,
                     "Refuse unless the parts hold exactly these sample indices (START:COUNT, e.g. 0:4096): catches a "
                     "missing shard");
-    cmd->add_option("--max-image-megapixels", o->max_image_megapixels,
-                    "Largest partial render read, in megapixels (as render's budget for images); larger parts, or "
-                    "parts implausibly small for their size, are refused before any pixel is read")
-        ->check(finite_range(0.001, 1e6))
-        ->capture_default_str();
-    cmd->add_option("--exposure", o->exposure, "Exposure in stops for PNG outputs")
-        ->check(finite_range(-64, 64))
-        ->capture_default_str();
+    add_image_budget_option(*cmd, o->max_image_megapixels,
+                            "Largest partial render read, in megapixels (as render's budget for images); larger parts, "
+                            "or parts implausibly small for their size, are refused before any pixel is read");
+    add_exposure_option(*cmd, o->exposure, "Exposure in stops for PNG outputs");
     cmd->callback([o] { run(*o); });
 }
 

@@ -19,6 +19,8 @@
 #include "core/frame/denoise_atrous.h"
 #include "core/frame/denoise_nfor.h"
 #include "core/frame/partial.h"
+#include "core/frame/partial_merge.h"
+#include "core/frame/render_plan.h"
 #include "core/frame/renderer.h"
 #include "core/image/image_io.h"
 #include "core/load/scene_file.h"
@@ -43,13 +45,6 @@ struct RenderOptions {
     std::string denoiser = "nfor";  // or "atrous", the viewer's interactive filter (core/frame/denoise_atrous.h)
     std::string region;             // --region x0,y0,x1,y1: render only these pixels (core/frame/renderer.h)
 };
-
-// Options that --resume takes from the part instead (they define the image).
-const char* const kFromPart[] = {
-    "--width",        "--height",    "--seed",           "--max-depth", "--light-sampling", "--mis",
-    "--rr",           "--sky-guide", "--sampler",        "--eye",       "--target",         "--up",
-    "--fov",          "--aperture",  "--focus-distance", "--bookmark",  "--environment",    "--env-rotation",
-    "--env-strength", "--sun",       "--sun-irradiance", "--sun-radius"};
 
 // The scene overrides given (--environment, --sun ...) as flags, recorded in partial renders so that --resume
 // applies them again (exact: %.9g).
@@ -89,14 +84,6 @@ void parse_scene_flags(const std::string& flags, const std::string& what, Common
     c = parsed;
 }
 
-// The sample range START:COUNT of --samples.
-SampleRange parse_samples(const std::string& text) {
-    const std::vector<SampleRange> r = parse_ranges(text, "--samples " + quote_prefix(text));
-    if (r.size() != 1 || r[0].count > (1u << 30))
-        throw Error("--samples " + quote_prefix(text) + ": expected one START:COUNT with COUNT <= 2^30");
-    return r[0];
-}
-
 // The largest root-mean-square sample value of any pixel and channel (sqrt(sum_sq / n)): the scale of the squares
 // that the Variance layer and the denoisers compute in float.
 double largest_rms(const Film& film) {
@@ -117,107 +104,52 @@ std::string spp_and_seconds(uint32_t spp, double seconds) {
     return text;
 }
 
-void run(RenderOptions& o) {
-    resolve_switches(o.common);
-    if (!o.spp && !o.seconds) o.spp = 64;
-    // A partial render: --samples START:COUNT renders those indices; --resume continues a part after its last index.
-    std::optional<SampleRange> samples;
-    std::optional<PartialRender> resumed;
-    // The layers of --aovs and --denoise are not part of the partial format: refused rather than dropped.
-    if ((o.aovs || o.denoise) && (!o.shard.empty() || !o.samples.empty() || !o.resume.empty()))
-        throw Error(std::string(o.aovs ? "--aovs" : "--denoise") + " with " +
-                    (!o.shard.empty()     ? "--shard"
-                     : !o.samples.empty() ? "--samples"
-                                          : "--resume") +
-                    ": a partial render holds only the film's sums, not feature layers or a denoised image; render "
-                    "the parts without it (merge them, then denoise a full render)");
-    // A region is not part of the partial format (merging parts of different regions would mix images): refused.
-    if (!o.region.empty() && (!o.shard.empty() || !o.samples.empty() || !o.resume.empty()))
-        throw Error(std::string("--region with ") +
-                    (!o.shard.empty()     ? "--shard"
-                     : !o.samples.empty() ? "--samples"
-                                          : "--resume") +
-                    ": partial renders cover the whole image; render the region without it");
-    if (!o.region.empty() && o.denoise)
-        throw Error(
-            "--region with --denoise: the denoiser would blend the black outside the region into its edges; "
-            "denoise a full render");
-    if (!o.region.empty() && (o.common.adaptive.allocate || o.common.adaptive.enabled()))
-        throw Error(std::string("--region with ") +
-                    (o.common.adaptive.allocate ? "--adaptive on" : "--noise-threshold") +
-                    ": adaptive sampling cannot be combined with a render region");
-    if (!o.shard.empty()) {
-        uint64_t index = 0, shards = 0;
-        parse_shard(o.shard, index, shards);
-        samples = shard_range(index, shards, uint64_t(*o.spp));
-        o.spp = int(samples->count);
-    }
-    if (!o.samples.empty()) {
-        samples = parse_samples(o.samples);
-        if (!o.seconds) o.spp = int(samples->count);
-    }
-    if (!o.resume.empty()) {
-        for (const char* flag : kFromPart)
-            if (o.cmd->get_option(flag)->count())
-                throw Error("--resume " + o.resume + ": " + flag + " comes from the part; leave it out");
-        resumed = read_partial(o.resume);
-        parse_scene_flags(resumed->info["pathview:scene_flags"], o.resume, o.common);
-        if (o.common.scene.empty()) {
-            o.common.scene = resumed->info["pathview:scene"];
-            if (o.common.scene.size() > 4096)  // PATH_MAX: not a path this system can open
-                throw Error("--resume " + o.resume + ": pathview:scene " + quote_prefix(o.common.scene) +
-                            " is longer than a path can be; give the scene file as an argument");
-        }
-        samples = SampleRange{resumed->ranges.back().end(), 0};
-        if (samples->start + uint64_t(o.spp.value_or(1)) > kSampleIndexLimit)
-            throw Error("--resume " + o.resume + ": the part ends at sample " + std::to_string(samples->start) +
-                        "; no room for " + std::to_string(o.spp.value_or(1)) +
-                        " more samples (sample indices end at 2^32)");
-    }
-    // A partial render samples every pixel at each of its indices, so that its parts merge into what one `render
-    // --adaptive off` gives, bit for bit. Adaptive sampling cannot be split so: each pixel's allocation comes from a
-    // pilot over the whole render (core/frame/adaptive.h), so --adaptive on is refused with a partial render.
-    if (samples && o.common.adaptive.allocate) {
-        if (o.cmd->get_option("--adaptive")->count())
-            throw Error(std::string(!o.shard.empty()    ? "--shard"
-                                    : !o.resume.empty() ? "--resume"
-                                                        : "--samples") +
-                        ": a partial render samples every pixel at every index (so that parts merge bit for bit); "
-                        "--adaptive on cannot be split so: leave it out or give --adaptive off");
-        o.common.adaptive.allocate = false;
-    }
-    const std::string path = scene_path(o.common);
-    for (const std::string& out : o.outs) {
+// The request of `o`'s flags (core/frame/render_plan.h).
+RenderRequest request_of(const RenderOptions& o) {
+    RenderRequest r;
+    r.spp = o.spp;
+    r.seconds = o.seconds;
+    r.samples = o.samples;
+    r.resume = o.resume;
+    r.shard = o.shard;
+    r.region = o.region;
+    r.aovs = o.aovs;
+    r.denoise = o.denoise;
+    r.adaptive = o.common.adaptive;
+    r.adaptive_given = o.cmd->get_option("--adaptive")->count() > 0;
+    r.scene = o.common.scene;
+    for (const std::string& flag : o.common.image_flags)
+        if (o.cmd->get_option(flag)->count()) r.image_flags_given.push_back(flag);
+    return r;
+}
+
+// Refuses, before the render, an output of unknown format or that cannot be written.
+void check_outputs(const std::vector<std::string>& outs) {
+    for (const std::string& out : outs) {
         const std::string ext = std::filesystem::path(out).extension().string();
         if (ext != ".exr" && ext != ".png" && ext != ".EXR" && ext != ".PNG")
             throw Error(out + ": unknown image format '" + ext + "'; expected .exr or .png");
         check_writable(out);  // before the render, not after it
     }
-    check_film_memory(o.common.width, o.common.height);
-    std::optional<PixelRect> region;
-    if (!o.region.empty()) region = parse_region(o.region, o.common.width, o.common.height, "--region");
+}
 
-    const bool tty = !o.quiet && isatty(STDERR_FILENO);
-    const auto load_start = std::chrono::steady_clock::now();
-    auto since_load = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
-    };
-    // Load on a worker thread; on a terminal, show the elapsed time meanwhile (the OBJ parser reports no fraction).
+// Loads the scene on a worker thread; on a terminal, shows the elapsed time meanwhile (the OBJ parser reports no
+// fraction).
+std::shared_ptr<Scene> load_showing_time(const std::string& path, bool tty) {
+    const auto start = std::chrono::steady_clock::now();
     auto loading = std::async(std::launch::async, [&path] { return load_scene(path); });
     if (tty)
         while (loading.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready)
-            std::fprintf(stderr, "\rpathview: loading %s  %.1f s", path.c_str(), since_load());
+            std::fprintf(stderr, "\rpathview: loading %s  %.1f s", path.c_str(),
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     auto scene = std::make_shared<Scene>(loading.get());
     if (tty) std::fprintf(stderr, "\r\033[K");
-    CameraDesc camera = set_up_scene(o.common, *scene);
-    const double load_seconds = since_load();
-    if (resumed) {
-        camera = parse_camera(resumed->id.camera, o.resume);
-        o.common.settings = parse_settings(resumed->id.settings, o.resume);
-        o.common.width = resumed->id.width;
-        o.common.height = resumed->id.height;
-    }
+    return scene;
+}
 
+// The renderer of `scene` (the BVH built, its progress drawn on a terminal), with the load and BVH figures.
+std::unique_ptr<Renderer> build_renderer(const std::shared_ptr<Scene>& scene, const RenderOptions& o, bool tty,
+                                         double load_seconds) {
     // BVH build progress from Embree's build threads, drawn at most every 2 percent.
     std::mutex progress_mutex;
     int drawn = -1;
@@ -228,119 +160,151 @@ void run(RenderOptions& o) {
         drawn = percent;
         std::fprintf(stderr, "\rpathview: building the BVH of %zu triangles  %3d%%", scene->triangle_count(), percent);
     };
-    Renderer renderer(scene, o.common.threads, tty ? std::function<void(double)>(build_progress) : nullptr);
+    auto renderer = std::make_unique<Renderer>(scene, o.common.threads,
+                                               tty ? std::function<void(double)>(build_progress) : nullptr);
     if (tty) std::fprintf(stderr, "\r\033[K");
     if (!o.quiet) {
-        const AccelStats& as = renderer.traceable().accel().stats();
+        const AccelStats& as = renderer->traceable().accel().stats();
         std::fprintf(stderr, "pathview: loaded %zu triangles in %.2f s; BVH %.2f s, %.1f MiB (%.0f bytes/triangle)\n",
                      scene->triangle_count(), load_seconds, as.build_seconds, double(as.bytes) / (1 << 20),
                      double(as.bytes) / double(std::max<size_t>(1, scene->triangle_count())));
     }
-    renderer.set_adaptive(o.common.adaptive);
+    return renderer;
+}
+
+// Restarts the renderer for the plan: adaptive sampling, region, camera and settings, then the resumed part's film
+// (refused unless the scene hashes as the part's) and the first sample index.
+void start_render(Renderer& renderer, const RenderOptions& o, const RenderPlan& plan, const CameraDesc& camera,
+                  const std::optional<PixelRect>& region) {
+    renderer.set_adaptive(plan.adaptive);
     renderer.set_region(region);
     renderer.restart(camera, o.common.settings, o.common.width, o.common.height);
-    if (resumed) {
+    if (plan.resumed) {
         const uint64_t hash =
             scene_hash(renderer.scene(), renderer.traceable().materials(), renderer.traceable().environment_settings());
-        if (hash != resumed->id.scene_hash)
-            throw Error("--resume " + o.resume + ": the scene " + path +
+        if (hash != plan.resumed->id.scene_hash)
+            throw Error("--resume " + o.resume + ": the scene " + scene_path(o.common) +
                         " (with the part's environment flags) is not "
                         "the one the part was rendered from (scene hash differs)");
-        renderer.load_film(resumed->film);
+        renderer.load_film(plan.resumed->film);
     }
-    if (samples) renderer.set_next_sample(uint32_t(samples->start));  // below 2^32: checked above
+    if (plan.samples) renderer.set_next_sample(uint32_t(plan.samples->start));  // below 2^32: checked by the plan
+}
+
+// Renders passes until the plan is done, with a progress bar unless quiet.
+void render_passes(Renderer& renderer, const RenderPlan& plan, bool quiet) {
     const auto start = std::chrono::steady_clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-    ProgressBar bar(!o.quiet);
+    ProgressBar bar(!quiet);
     for (;;) {
         const double t = elapsed();
         const RenderStats& st = renderer.stats();
-        if (o.spp && st.spp >= static_cast<uint32_t>(*o.spp)) break;
-        // A partial render with --time: at most COUNT samples (--samples), never past the index space (--resume).
-        if (samples && st.spp >= (samples->count ? samples->count : kSampleIndexLimit - samples->start)) break;
-        if (o.seconds && t >= *o.seconds && st.spp > 0) break;
-        if (renderer.converged()) break;
-        if (bar.enabled()) bar.draw(o.spp ? double(st.spp) / *o.spp : t / *o.seconds, spp_and_seconds(st.spp, t));
+        if (plan.done(st.spp, t, renderer.converged())) break;
+        if (bar.enabled())
+            bar.draw(plan.spp ? double(st.spp) / *plan.spp : t / *plan.seconds, spp_and_seconds(st.spp, t));
         renderer.render_pass();
     }
     bar.draw(1.0, spp_and_seconds(renderer.stats().spp, elapsed()));
     bar.finish();
+}
 
-    // AOVs and the denoiser: a first-hit feature pass after the render (the render loop itself is unchanged).
-    Image image = renderer.film().mean();
-    Image noisy;
+// What is written: the image (denoised with --denoise, exposed), its EXR layers and metadata.
+struct Output {
+    Image image;
     std::vector<ExrLayer> layers;
-    Metadata metadata = render_metadata(renderer);
+    Metadata metadata;
     double aov_seconds = 0.0;
     NforStats nfor;
-    if (o.aovs || o.denoise) {
-        const double rms = largest_rms(renderer.film());
-        if (rms > kMaxDenoiseRms) {
-            char msg[400];
-            std::snprintf(msg, sizeof msg,
-                          "%s: the brightest pixel's RMS radiance is %.3g, beyond the %.0e that the Variance layer and "
-                          "the denoisers compute in float; scale the emission, --env-strength or --sun-irradiance down "
-                          "(without %s the render is written as is)",
-                          o.denoise ? "--denoise" : "--aovs", rms, kMaxDenoiseRms, o.denoise ? "--denoise" : "--aovs");
-            throw Error(msg);
-        }
-        // AOVs: a first-hit feature pass after the render (the render loop itself is unchanged).
-        const auto aov_start = std::chrono::steady_clock::now();
-        const FeatureImage features = render_features(renderer.traceable(), renderer.camera(), image.width,
-                                                      image.height, 8, renderer.settings().seed);
-        aov_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - aov_start).count();
-        if (o.denoise) {
-            noisy = image;
-            if (o.denoiser == "atrous") {
-                const auto t0 = std::chrono::steady_clock::now();
-                image = denoise_atrous(noisy, renderer.film().variance_of_mean(), features);
-                nfor.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            } else {
-                image = denoise_nfor(renderer.film(), features, &nfor);
-            }
-            metadata["pathview:denoiser"] = o.denoiser;
-            metadata["pathview:denoise_seconds"] = std::to_string(nfor.seconds);
-        }
-        if (o.aovs)
-            for (ExrLayer& l : feature_layers(features)) layers.push_back(std::move(l));
+};
+
+// With --aovs or --denoise: the first-hit feature pass after the render (the render loop itself is unchanged), the
+// denoised image and the feature layers. Refuses a film too bright for the float statistics.
+void add_features(const RenderOptions& o, const Renderer& renderer, Output& out, Image& noisy) {
+    const double rms = largest_rms(renderer.film());
+    if (rms > kMaxDenoiseRms) {
+        char msg[400];
+        std::snprintf(msg, sizeof msg,
+                      "%s: the brightest pixel's RMS radiance is %.3g, beyond the %.0e that the Variance layer and "
+                      "the denoisers compute in float; scale the emission, --env-strength or --sun-irradiance down "
+                      "(without %s the render is written as is)",
+                      o.denoise ? "--denoise" : "--aovs", rms, kMaxDenoiseRms, o.denoise ? "--denoise" : "--aovs");
+        throw Error(msg);
     }
+    const auto aov_start = std::chrono::steady_clock::now();
+    const FeatureImage features = render_features(renderer.traceable(), renderer.camera(), out.image.width,
+                                                  out.image.height, 8, renderer.settings().seed);
+    out.aov_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - aov_start).count();
+    if (o.denoise) {
+        noisy = out.image;
+        if (o.denoiser == "atrous") {
+            const auto t0 = std::chrono::steady_clock::now();
+            out.image = denoise_atrous(noisy, renderer.film().variance_of_mean(), features);
+            out.nfor.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        } else {
+            out.image = denoise_nfor(renderer.film(), features, &out.nfor);
+        }
+        out.metadata["pathview:denoiser"] = o.denoiser;
+        out.metadata["pathview:denoise_seconds"] = std::to_string(out.nfor.seconds);
+    }
+    if (o.aovs)
+        for (ExrLayer& l : feature_layers(features)) out.layers.push_back(std::move(l));
+}
+
+// The rendered film as the output: mean, features and denoising, exposure, layers.
+Output make_output(const RenderOptions& o, const Renderer& renderer) {
+    Output out;
+    out.image = renderer.film().mean();
+    out.metadata = render_metadata(renderer);
+    Image noisy;
+    if (o.aovs || o.denoise) add_features(o, renderer, out, noisy);
     if (o.exposure != 0.f)
-        for (Image* im : {&image, &noisy})
+        for (Image* im : {&out.image, &noisy})
             for (float& v : im->rgb) {
                 // Overflow saturates: a file never holds Inf (the film's means are finite and non-negative).
                 const float s = v * std::exp2(o.exposure);
                 v = std::isfinite(s) ? s : std::numeric_limits<float>::max();
             }
-    layers.insert(layers.begin(), rgb_layer(image));
-    if (o.denoise) layers.push_back(rgb_layer(noisy, "noisy"));
+    out.layers.insert(out.layers.begin(), rgb_layer(out.image));
+    if (o.denoise) out.layers.push_back(rgb_layer(noisy, "noisy"));
     if (o.aovs)
-        for (ExrLayer& l : film_layers(renderer.film())) layers.push_back(std::move(l));
+        for (ExrLayer& l : film_layers(renderer.film())) out.layers.push_back(std::move(l));
+    return out;
+}
+
+// Writes every -o (a partial render's EXRs as partial files); returns their names, comma-separated.
+std::string write_outputs(const RenderOptions& o, const Renderer& renderer, const RenderPlan& plan, const Output& out) {
     std::optional<PartialRender> part;
-    if (samples) {
-        std::vector<SampleRange> ranges{{samples->start, renderer.stats().spp}};
-        if (resumed) ranges.insert(ranges.end(), resumed->ranges.begin(), resumed->ranges.end());
+    if (plan.samples) {
+        std::vector<SampleRange> ranges{{plan.samples->start, renderer.stats().spp}};
+        if (plan.resumed) ranges.insert(ranges.end(), plan.resumed->ranges.begin(), plan.resumed->ranges.end());
         part = partial_from_renderer(renderer, ranges);
         part->info["pathview:scene_flags"] = scene_flags(o.common);
-        if (resumed) add_summed_info(part->info, resumed->info);
+        if (plan.resumed) add_summed_info(part->info, plan.resumed->info);
     }
     std::string written;
-    for (const std::string& out : o.outs) {
-        const std::string ext = std::filesystem::path(out).extension().string();
+    for (const std::string& file : o.outs) {
+        const std::string ext = std::filesystem::path(file).extension().string();
         const bool exr = ext == ".exr" || ext == ".EXR";
         if (part && exr)
-            write_partial(out, *part);
-        else if (layers.size() > 1 && exr)
-            write_exr_layers(out, image.width, image.height, layers, metadata);
+            write_partial(file, *part);
+        else if (out.layers.size() > 1 && exr)
+            write_exr_layers(file, out.image.width, out.image.height, out.layers, out.metadata);
         else
-            write_image(out, image, metadata);
-        written += (written.empty() ? "" : ", ") + out;
+            write_image(file, out.image, out.metadata);
+        written += (written.empty() ? "" : ", ") + file;
     }
+    return written;
+}
+
+// The summary lines: the feature pass and denoiser (stderr), then the render's figures, region, sky guide and
+// adaptive sampling (stdout).
+void print_summary(const RenderOptions& o, const Renderer& renderer, const Output& out, const std::string& written) {
     if ((o.aovs || o.denoise) && !o.quiet)
-        std::fprintf(stderr, "pathview: feature pass (albedo, normal, depth; 8 rays per pixel) %.2f s\n", aov_seconds);
+        std::fprintf(stderr, "pathview: feature pass (albedo, normal, depth; 8 rays per pixel) %.2f s\n",
+                     out.aov_seconds);
     if (o.denoise && !o.quiet)
         std::fprintf(stderr, "pathview: denoised (%s) in %.3f s; the relMSE estimate below is the noisy image's\n",
-                     o.denoiser.c_str(), nfor.seconds);
-
+                     o.denoiser.c_str(), out.nfor.seconds);
     const RenderStats& st = renderer.stats();
     const double secs = std::max(st.seconds, 1e-9);
     if (renderer.settings().max_depth < RenderSettings{}.max_depth)
@@ -370,15 +334,48 @@ void run(RenderOptions& o) {
         std::printf("pathview: sky guide %s%s, trained in %.3f s (part of the first pass)\n",
                     st.guide_used ? "on" : "off", why, st.guide_seconds);
     }
-    if (renderer.adaptive_settings().allocate && !renderer.adaptive_settings().enabled())
+    const AdaptiveSettings& adaptive = renderer.adaptive_settings();
+    if (adaptive.allocate && !adaptive.enabled())
         std::printf("pathview: adaptive sampling: %.1f samples per pixel on average (%u passes)\n",
                     renderer.film().mean_count(), st.spp);
-    if (renderer.adaptive_settings().enabled())
+    if (adaptive.enabled())
         std::printf(
             "pathview: noise threshold %g: %.1f%% of pixels still active, %.1f samples per pixel on average%s\n",
-            double(renderer.adaptive_settings().noise_threshold), 100.0 * renderer.adaptive_mask().active_fraction(),
+            double(adaptive.noise_threshold), 100.0 * renderer.adaptive_mask().active_fraction(),
             double(st.paths) / double(std::max(1, o.common.width * o.common.height)),
             renderer.converged() ? " (every pixel converged)" : "");
+}
+
+void run(RenderOptions& o) {
+    resolve_switches(o.common);
+    // The plan (core/frame/render_plan.h): sample counts, partial render, resumed part; a part's scene flags apply
+    // as soon as it is read.
+    const RenderPlan plan = plan_render(request_of(o), [&](const PartialRender& part) {
+        const auto flags = part.info.find("pathview:scene_flags");
+        parse_scene_flags(flags == part.info.end() ? "" : flags->second, o.resume, o.common);
+    });
+    o.common.scene = plan.scene;
+    check_outputs(o.outs);
+    check_film_memory(o.common.width, o.common.height);
+    std::optional<PixelRect> region;
+    if (!o.region.empty()) region = parse_region(o.region, o.common.width, o.common.height, "--region");
+
+    const bool tty = !o.quiet && isatty(STDERR_FILENO);
+    const auto load_start = std::chrono::steady_clock::now();
+    const std::shared_ptr<Scene> scene = load_showing_time(scene_path(o.common), tty);
+    CameraDesc camera = set_up_scene(o.common, *scene);
+    const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - load_start).count();
+    if (plan.resumed) {
+        camera = parse_camera(plan.resumed->id.camera, o.resume);
+        o.common.settings = parse_settings(plan.resumed->id.settings, o.resume);
+        o.common.width = plan.resumed->id.width;
+        o.common.height = plan.resumed->id.height;
+    }
+    const std::unique_ptr<Renderer> renderer = build_renderer(scene, o, tty, load_seconds);
+    start_render(*renderer, o, plan, camera, region);
+    render_passes(*renderer, plan, o.quiet);
+    const Output out = make_output(o, *renderer);
+    print_summary(o, *renderer, out, write_outputs(o, *renderer, plan, out));
 }
 
 }  // namespace
@@ -397,9 +394,7 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("-o,--output", o->outs, "Output file: .exr or .png; repeat -o to write several")
         ->required()
         ->take_all();
-    cmd->add_option("--exposure", o->exposure, "Exposure in stops applied before writing")
-        ->check(finite_range(-64, 64))
-        ->capture_default_str();
+    add_exposure_option(*cmd, o->exposure, "Exposure in stops applied before writing");
     cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
     auto* samples = cmd->add_option("--samples", o->samples,
                                     "Render only the sample indices START..START+COUNT-1 (START:COUNT; with --time, "

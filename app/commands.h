@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/frame/adaptive.h"
 #include "core/image/image_io.h"
@@ -27,6 +28,9 @@ struct CommonOptions {
     std::vector<float> sun;  // direction toward the sun
     std::optional<float> sun_irradiance, sun_radius;
     double max_image_megapixels = double(ImageLimits{}.max_pixels) * 1e-6;  // memory budget of one image
+    // The flags add_common_options registered that define the image (size, settings, camera, scene overrides):
+    // those that `render --resume` takes from the part.
+    std::vector<std::string> image_flags;
 };
 
 // A CLI11 check: a finite number in [lo, hi] (CLI::Range lets NaN through and accepts inf).
@@ -36,6 +40,10 @@ void check_film_memory(int width, int height);
 // The same for `pathview merge`: the output film of width x height parts (pv::Error naming `part`).
 void check_merge_memory(const std::string& part, int width, int height);
 
+// --exposure (stops, applied before writing) and --max-image-megapixels (the budget of one image read), shared by
+// render and merge (the budget also by view and bench, through add_common_options) with each one's help.
+CLI::Option* add_exposure_option(CLI::App& cmd, float& stops, const std::string& help);
+CLI::Option* add_image_budget_option(CLI::App& cmd, double& megapixels, const std::string& help);
 // Adds the shared options to a (sub)command.
 void add_common_options(CLI::App& cmd, CommonOptions& o);
 // After parsing: caps --threads at the cores this process may use (saying so) and applies the image budget.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <type_traits>
 
 #include "app/commands.h"
 #include "core/base/error.h"
@@ -11,6 +12,7 @@
 #include "core/image/film.h"
 #include "core/image/image_io.h"
 #include "core/load/scene_file.h"
+#include "core/scene/environment.h"
 
 namespace pv::app {
 namespace {
@@ -32,8 +34,33 @@ CLI::Validator choices(std::vector<std::pair<std::string, int>> words) {
         names);
 }
 
-const CLI::Validator kOnOff = choices({{"on", 1}, {"off", 0}});
-std::string on_off(bool b) { return b ? "on" : "off"; }
+// The words of a table (core/base/text.h) as a choices() transformer.
+template <class T, size_t N>
+CLI::Validator choices(const NamedValue<T> (&table)[N]) {
+    std::vector<std::pair<std::string, int>> words;
+    for (const NamedValue<T>& e : table) words.emplace_back(e.name, int(e.value));
+    return choices(std::move(words));
+}
+
+const CLI::Validator kOnOff = choices(kOnOffNames);
+std::string on_off(bool b) { return name_of(kOnOffNames, b); }
+
+// Every field of RenderSettings as its option (core/render/settings.h): words through choices(), numbers checked
+// against their range.
+void add_setting_options(CLI::App& cmd, RenderSettings& settings) {
+    for_each_setting([&](const auto& f) {
+        using T = std::decay_t<decltype(settings.*f.member)>;
+        CLI::Option* opt = cmd.add_option(f.flag, settings.*f.member, f.help);
+        if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+            if (f.ranged) opt->check(CLI::Range(f.lo, f.hi));
+            opt->capture_default_str();
+        } else {
+            std::vector<std::pair<std::string, int>> words;
+            for (size_t i = 0; i < f.name_count; ++i) words.emplace_back(f.names[i].name, int(f.names[i].value));
+            opt->transform(choices(std::move(words)))->default_str(f.name(settings.*f.member));
+        }
+    });
+}
 
 // "r,g,b" or one number, as a colour; nothing when `s` is not such a list (then it names a map or "sky").
 std::optional<vec3> parse_colour(const std::string& s) {
@@ -127,47 +154,36 @@ void check_merge_memory(const std::string& part, int width, int height) {
         throw Error(part + ": " + std::to_string(width) + "x" + std::to_string(height) + " parts need " + s);
 }
 
+CLI::Option* add_exposure_option(CLI::App& cmd, float& stops, const std::string& help) {
+    return cmd.add_option("--exposure", stops, help)->check(finite_range(-64, 64))->capture_default_str();
+}
+
+CLI::Option* add_image_budget_option(CLI::App& cmd, double& megapixels, const std::string& help) {
+    return cmd.add_option("--max-image-megapixels", megapixels, help)
+        ->check(finite_range(0.001, 1e6))
+        ->capture_default_str();
+}
+
 void add_common_options(CLI::App& cmd, CommonOptions& o) {
+    // An option that defines the image (size, settings, camera, scene overrides): --resume takes it from the part.
+    o.image_flags.clear();
+    auto image = [&](CLI::Option* opt) {
+        o.image_flags.push_back("--" + opt->get_lnames().front());
+        return opt;
+    };
     cmd.add_option("scene", o.scene,
                    "Scene: a .json scene file, an .obj, a .gltf or a .glb (default: the built-in Cornell box)");
-    cmd.add_option("--width", o.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
-    cmd.add_option("--height", o.height, "Image height in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+    image(cmd.add_option("--width", o.width, "Image width in pixels")
+              ->check(CLI::Range(1, 16384))
+              ->capture_default_str());
+    image(cmd.add_option("--height", o.height, "Image height in pixels")
+              ->check(CLI::Range(1, 16384))
+              ->capture_default_str());
     cmd.add_option("--threads", o.threads, "Render threads (0: every core this process may use; at most that many)")
         ->check(CLI::Range(0, 1024))
         ->capture_default_str();
-    cmd.add_option("--seed", o.settings.seed, "Random seed (the image depends only on it, not on threads)")
-        ->capture_default_str();
-    cmd.add_option("--max-depth", o.settings.max_depth,
-                   "Maximum number of scattering events (0: emitters seen directly only)")
-        ->check(CLI::Range(0, 100000))
-        ->capture_default_str();
-    cmd.add_option("--light-sampling", o.settings.light_sampling, "Next-event estimation: on|off")
-        ->transform(kOnOff)
-        ->default_str(on_off(o.settings.light_sampling));
-    cmd.add_option("--mis", o.settings.mis, "Multiple importance sampling of light and BSDF samples: on|off")
-        ->transform(kOnOff)
-        ->default_str(on_off(o.settings.mis));
-    cmd.add_option("--rr", o.settings.russian_roulette, "Russian roulette: on|off")
-        ->transform(kOnOff)
-        ->default_str(on_off(o.settings.russian_roulette));
-    cmd.add_option("--sky-guide", o.settings.sky_guide,
-                   "Next-event estimation of the sky aimed at the directions a short training pre-pass found "
-                   "unoccluded (interiors lit through openings): on|off|auto (auto: where the training predicts "
-                   "it pays for its cost)")
-        ->transform(choices(
-            {{"off", int(SkyGuideMode::Off)}, {"on", int(SkyGuideMode::On)}, {"auto", int(SkyGuideMode::Auto)}}))
-        ->default_str("auto");
-    cmd.add_option("--light-sampler", o.settings.light_sampler,
-                   "How next-event estimation chooses an emissive triangle: power (in proportion to its power) or "
-                   "tree (a light tree: in proportion to a bound on its contribution at the shading point; for "
-                   "scenes of many lights)")
-        ->transform(choices({{"power", int(LightSamplerKind::Power)}, {"tree", int(LightSamplerKind::Tree)}}))
-        ->default_str(light_sampler_name(o.settings.light_sampler));
-    cmd.add_option("--sampler", o.settings.sampler, "Sample generator: independent|sobol (Owen-scrambled, padded)")
-        ->transform(choices({{"independent", int(SamplerKind::Independent)},
-                             {"ind", int(SamplerKind::Independent)},
-                             {"sobol", int(SamplerKind::Sobol)}}))
-        ->default_str(sampler_name(o.settings.sampler));
+    add_setting_options(cmd, o.settings);
+    for_each_setting([&](const auto& f) { o.image_flags.push_back(f.flag); });
     cmd.add_option("--adaptive", o.adaptive.allocate,
                    "Adaptive sampling: each region takes samples in proportion to its relative error per sample, "
                    "estimated from pilot passes that never steer their own samples (unbiased; --spp counts the "
@@ -181,43 +197,44 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
     cmd.add_option("--min-spp", o.adaptive.min_spp, "Adaptive sampling: samples every pixel takes before it may stop")
         ->check(CLI::Range(2u, 1u << 30))
         ->capture_default_str();
-    cmd.add_option("--eye", o.eye, "Camera position x,y,z")
-        ->expected(3)
-        ->delimiter(',')
-        ->check(finite_range(-1e30, 1e30));
-    cmd.add_option("--target", o.target, "Camera target x,y,z")
-        ->expected(3)
-        ->delimiter(',')
-        ->check(finite_range(-1e30, 1e30));
-    cmd.add_option("--up", o.up, "Camera up vector x,y,z")
-        ->expected(3)
-        ->delimiter(',')
-        ->check(finite_range(-1e30, 1e30));
-    cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->check(finite_range(0.01, 179));
-    cmd.add_option("--aperture", o.aperture, "Thin-lens radius in scene units (0: pinhole)")
-        ->check(finite_range(0, 1e30));
-    cmd.add_option("--focus-distance", o.focus_distance, "Focus distance in scene units (0: at the target)")
-        ->check(finite_range(0, 1e30));
-    cmd.add_option("--bookmark", o.bookmark, "Start from the camera bookmark of this name saved in the scene file");
-    cmd.add_option("--environment", o.environment,
-                   "Light from far away: r,g,b or one number (constant radiance), 'sky' (the default sky), or an "
-                   "equirectangular map (.exr, .hdr, .png)");
-    cmd.add_option("--env-rotation", o.env_rotation, "Environment rotation about +y, degrees")
-        ->check(finite_range(-1e30, 1e30));
-    cmd.add_option("--env-strength", o.env_strength, "Environment radiance multiplier")->check(finite_range(0, 1e30));
-    cmd.add_option("--sun", o.sun, "Add a sun in direction x,y,z (toward the sun)")
-        ->expected(3)
-        ->delimiter(',')
-        ->check(finite_range(-1e30, 1e30));
-    cmd.add_option("--sun-irradiance", o.sun_irradiance, "Sun irradiance on a surface facing it (default 5 with --sun)")
-        ->check(finite_range(0, 1e30));
-    cmd.add_option("--max-image-megapixels", o.max_image_megapixels,
-                   "Largest environment map or texture read, in megapixels (a 16384x8192 map is 134); larger or "
-                   "implausibly small files are refused before decoding")
-        ->check(finite_range(0.001, 1e6))
-        ->capture_default_str();
-    cmd.add_option("--sun-radius", o.sun_radius, "Sun angular radius, degrees (default 0.27)")
-        ->check(finite_range(0.01, 45));
+    image(cmd.add_option("--eye", o.eye, "Camera position x,y,z")
+              ->expected(3)
+              ->delimiter(',')
+              ->check(finite_range(-1e30, 1e30)));
+    image(cmd.add_option("--target", o.target, "Camera target x,y,z")
+              ->expected(3)
+              ->delimiter(',')
+              ->check(finite_range(-1e30, 1e30)));
+    image(cmd.add_option("--up", o.up, "Camera up vector x,y,z")
+              ->expected(3)
+              ->delimiter(',')
+              ->check(finite_range(-1e30, 1e30)));
+    image(cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->check(finite_range(0.01, 179)));
+    image(cmd.add_option("--aperture", o.aperture, "Thin-lens radius in scene units (0: pinhole)")
+              ->check(finite_range(0, 1e30)));
+    image(cmd.add_option("--focus-distance", o.focus_distance, "Focus distance in scene units (0: at the target)")
+              ->check(finite_range(0, 1e30)));
+    image(cmd.add_option("--bookmark", o.bookmark,
+                         "Start from the camera bookmark of this name saved in the scene file"));
+    image(cmd.add_option("--environment", o.environment,
+                         "Light from far away: r,g,b or one number (constant radiance), 'sky' (the default sky), or an "
+                         "equirectangular map (.exr, .hdr, .png)"));
+    image(cmd.add_option("--env-rotation", o.env_rotation, "Environment rotation about +y, degrees")
+              ->check(finite_range(-1e30, 1e30)));
+    image(cmd.add_option("--env-strength", o.env_strength, "Environment radiance multiplier")
+              ->check(finite_range(0, 1e30)));
+    image(cmd.add_option("--sun", o.sun, "Add a sun in direction x,y,z (toward the sun)")
+              ->expected(3)
+              ->delimiter(',')
+              ->check(finite_range(-1e30, 1e30)));
+    image(cmd.add_option("--sun-irradiance", o.sun_irradiance,
+                         "Sun irradiance on a surface facing it (default 5 with --sun)")
+              ->check(finite_range(0, 1e30)));
+    add_image_budget_option(cmd, o.max_image_megapixels,
+                            "Largest environment map or texture read, in megapixels (a 16384x8192 map is 134); larger "
+                            "or implausibly small files are refused before decoding");
+    image(cmd.add_option("--sun-radius", o.sun_radius, "Sun angular radius, degrees (default 0.27)")
+              ->check(finite_range(kSunRadiusMinDeg, kSunRadiusMaxDeg)));
 }
 
 void resolve_switches(CommonOptions& o) {

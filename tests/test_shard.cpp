@@ -14,6 +14,7 @@
 
 #include "core/base/error.h"
 #include "core/frame/partial.h"
+#include "core/frame/partial_merge.h"
 #include "core/frame/renderer.h"
 #include "core/image/image_io.h"
 #include "tests/support/scenes.h"

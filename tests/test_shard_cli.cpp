@@ -9,6 +9,7 @@
 
 #include "core/frame/partial.h"
 #include "core/image/image_io.h"
+#include "core/render/settings.h"
 #include "tests/support/cli.h"
 
 namespace pv {
@@ -93,6 +94,22 @@ TEST(ShardCli, MergedShardsAndResumedPartEqualOneRender) {
     const test::RunResult flagged = pathview("render --resume " + d / "a.exr" + " --seed 3 -q -o " + d / "x.exr");
     EXPECT_NE(flagged.exit_code, 0);
     EXPECT_NE(flagged.err.find("--seed comes from the part"), std::string::npos) << flagged.err;
+}
+
+// Every field of the settings table (core/render/settings.h) comes from the part: --resume refuses its flag with
+// one line, and accepts the part alone.
+TEST(ShardCli, ResumeRefusesEverySettingFlag) {
+    const CliDir d;
+    expect_ok(pathview("render --samples 0:1" + kSize + " -o " + d / "a.exr"));
+    for_each_setting([&](const auto& f) {
+        const std::string value = f.name_count ? f.names[0].name : "1";
+        const test::RunResult r =
+            pathview("render --resume " + d / "a.exr" + " " + f.flag + " " + value + " -q -o " + d / "x.exr");
+        EXPECT_NE(r.exit_code, 0) << f.flag;
+        EXPECT_NE(r.err.find(std::string(f.flag) + " comes from the part"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(d.file("x.exr"))) << f.flag;
+    });
+    expect_ok(pathview("render --resume " + d / "a.exr" + " --spp 1 -q -o " + d / "x.exr"));
 }
 
 TEST(ShardCli, BadPartsLeaveNothingAtTheOutput) {

@@ -15,6 +15,7 @@
 
 #include "core/base/error.h"
 #include "core/frame/partial.h"
+#include "core/frame/partial_merge.h"
 #include "core/image/image_io.h"
 #include "core/scene/texture.h"
 #include "tests/support/cli.h"

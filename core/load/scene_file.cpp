@@ -204,7 +204,7 @@ void apply_lighting(const JsonReader& r, const json& env, const json& sun, const
         scene.environment.sun_direction = r.direction(sun["direction"], root / "sun" / "direction");
     if (sun.contains("angular_radius"))
         scene.environment.sun_angular_radius_deg =
-            r.number(sun["angular_radius"], root / "sun" / "angular_radius", 0.01f, 45.f);
+            r.number(sun["angular_radius"], root / "sun" / "angular_radius", kSunRadiusMinDeg, kSunRadiusMaxDeg);
     if (sun.contains("irradiance")) {
         const json& e = sun["irradiance"];
         const Ptr at = root / "sun" / "irradiance";

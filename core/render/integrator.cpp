@@ -25,16 +25,6 @@ inline float bsdf_hit_weight(bool mis, float bsdf_pdf, float light_pdf) {
 
 }  // namespace
 
-std::string RenderSettings::describe() const {
-    return std::string("nee=") + (light_sampling ? "on" : "off") + " mis=" + (mis ? "on" : "off") +
-           " rr=" + (russian_roulette ? "on" : "off") + " max_depth=" + std::to_string(max_depth) +
-           " seed=" + std::to_string(seed) + " sampler=" + sampler_name(sampler) +
-           (sky_guide == SkyGuideMode::On     ? " sky_guide=on"
-            : sky_guide == SkyGuideMode::Auto ? " sky_guide=auto"
-                                              : "") +
-           (light_sampler == LightSamplerKind::Tree ? " light_sampler=tree" : "");
-}
-
 void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler) {
     m_ts = &ts;
     m_settings = &settings;

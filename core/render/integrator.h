@@ -7,46 +7,13 @@
 #include <cstdint>
 #include <string>
 
+#include "core/render/settings.h"
 #include "core/render/shading.h"
 #include "core/render/surface.h"
 #include "core/render/traceable_scene.h"
 #include "core/sampling/sampler.h"
 
 namespace pv {
-
-// --sky-guide: off, on, or auto (trained, then used where the training predicts it pays; core/render/sky_guide.h).
-enum class SkyGuideMode : uint8_t { Off, On, Auto };
-
-// The estimator's switches, as plain data. Defaults are unbiased in practice (depth 1024 is never reached
-// with roulette on: survival falls geometrically with throughput).
-struct RenderSettings {
-    bool light_sampling = true;  // next-event estimation over emissive triangles, sky and sun
-    bool mis = true;             // power-heuristic MIS between light and BSDF sampling (needs light_sampling)
-    bool russian_roulette = true;
-    int max_depth = 1024;
-    uint32_t seed = 0;
-    // Owen-scrambled Sobol: measured better at equal time on the Cornell box (BENCHMARKS.md sections 1 and 5).
-    SamplerKind sampler = SamplerKind::Sobol;  // see core/sampling/sampler.h
-    // Next-event estimation of the sky guided toward the directions a training pre-pass found unoccluded
-    // (core/render/sky_guide.h); only where the sky shines and the scene has no portals. Auto by default: the training
-    // predicts whether the guide pays for its cost (it halves the error of a room lit by the sky through a window,
-    // and costs more than it gains on the sun-lit room, Sibenik and the conference room; docs/sky-guide.md).
-    SkyGuideMode sky_guide = SkyGuideMode::Auto;
-    // How next-event estimation chooses an emissive triangle: by power, or by a light tree at the shading point
-    // (core/render/light_tree.h; docs/light-sampling.md has the measurements behind the default).
-    LightSamplerKind light_sampler = LightSamplerKind::Power;
-
-    bool operator==(const RenderSettings& o) const {
-        return light_sampling == o.light_sampling && mis == o.mis && russian_roulette == o.russian_roulette &&
-               max_depth == o.max_depth && seed == o.seed && sampler == o.sampler && sky_guide == o.sky_guide &&
-               light_sampler == o.light_sampler;
-    }
-    bool operator!=(const RenderSettings& o) const { return !(*this == o); }
-    // One line for logs and EXR metadata, e.g. "nee=on mis=on rr=on max_depth=1024 seed=0 sampler=independent",
-    // then " sky_guide=on" or " sky_guide=auto", then " light_sampler=tree" with the tree (strings from before the
-    // guide existed mean it off; a render's settings_as_rendered() resolves auto to on or off).
-    std::string describe() const;
-};
 
 // Per-thread counters, added to the renderer's totals once per tile.
 struct PathCounters {

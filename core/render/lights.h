@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/render/light_tree.h"
+#include "core/render/settings.h"
 #include "core/sampling/distribution.h"
 #include "core/sampling/spherical_triangle.h"
 #include "core/sampling/warp.h"
@@ -67,11 +68,7 @@ constexpr float kSphericalNearRadii = 2.f;
 // when it sends nothing there.
 bool sample_punctual(const PunctualLight& light, vec3 ref, LightSample& out);
 
-// --light-sampler: how an emissive triangle is chosen. Power: in proportion to its power, wherever the shading point
-// (an alias table). Tree: by a light tree (core/render/light_tree.h) in proportion to a bound on its contribution at
-// the shading point and normal.
-enum class LightSamplerKind : uint8_t { Power, Tree };
-inline const char* light_sampler_name(LightSamplerKind k) { return k == LightSamplerKind::Tree ? "tree" : "power"; }
+// LightSamplerKind (--light-sampler) is in core/render/settings.h.
 
 class LightSet {
 public:

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/base/math.h"
+#include "core/base/text.h"
 #include "core/sampling/rng.h"
 #include "core/sampling/sobol.h"
 
@@ -21,13 +22,12 @@ namespace pv {
 
 enum class SamplerKind : uint8_t { Independent, Sobol };
 
-inline const char* sampler_name(SamplerKind k) { return k == SamplerKind::Sobol ? "sobol" : "independent"; }
+// --sampler's words (and the settings text's): "independent" or "sobol" (also "ind").
+inline constexpr NamedValue<SamplerKind> kSamplerNames[] = {
+    {"independent", SamplerKind::Independent}, {"ind", SamplerKind::Independent}, {"sobol", SamplerKind::Sobol}};
+inline const char* sampler_name(SamplerKind k) { return name_of(kSamplerNames, k); }
 // "independent" or "sobol" (also "ind"); nothing for anything else.
-inline std::optional<SamplerKind> parse_sampler(const std::string& s) {
-    if (s == "independent" || s == "ind") return SamplerKind::Independent;
-    if (s == "sobol") return SamplerKind::Sobol;
-    return std::nullopt;
-}
+inline std::optional<SamplerKind> parse_sampler(const std::string& s) { return value_of(kSamplerNames, s); }
 
 class Sampler {
 public:

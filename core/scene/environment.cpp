@@ -93,7 +93,8 @@ Environment::Environment(const Scene& scene, const EnvironmentSettings& settings
     // The sun: irradiance E from a uniform disk of angular radius r is L pi sin^2(r), so L = E / (pi sin^2 r). Its
     // cone is kept as 1 - cos r = 2 sin^2(r/2) and sin^2 r, in double then rounded once: both keep full relative
     // precision for any radius, where cos r in float would be 1 below 0.02 degrees.
-    const double radius = glm::radians(double(glm::clamp(settings.sun_angular_radius_deg, 0.01f, 45.f)));
+    const double radius =
+        glm::radians(double(glm::clamp(settings.sun_angular_radius_deg, kSunRadiusMinDeg, kSunRadiusMaxDeg)));
     if (sun_shines(settings)) {
         const double sin_half = std::sin(0.5 * radius), sin_r = std::sin(radius);
         m_sun_dir = glm::normalize(settings.sun_direction);

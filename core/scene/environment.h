@@ -23,6 +23,9 @@ struct EnvironmentSample {
     float pdf = 0.f;
 };
 
+// The sun's angular radius in degrees that scene files and --sun-radius accept; the sky clamps it to this range.
+constexpr float kSunRadiusMinDeg = 0.01f, kSunRadiusMaxDeg = 45.f;
+
 // True if the environment with these settings gives any light; cheap (no sampling tables are built).
 bool environment_emits(const Scene& scene, const EnvironmentSettings& settings);
 
