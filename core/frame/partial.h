@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/text.h"
 #include "core/image/film.h"
 #include "core/image/image_io.h"
 #include "core/render/integrator.h"
@@ -41,11 +42,7 @@ struct SampleRange {
 };
 constexpr uint64_t kSampleIndexLimit = uint64_t(1) << 32;  // sample indices are below this
 
-// Strict decimal: digits only (no sign, space or leading zero other than "0" itself), at most `max`. nullopt
-// otherwise.
-std::optional<uint64_t> parse_decimal(const std::string& s, uint64_t max = ~uint64_t(0));
-// `s` quoted for an error line: whole if short, else its first 48 characters, "..." and its length.
-std::string quote_prefix(const std::string& s);
+// parse_decimal and quote_prefix: core/base/text.h.
 // "0:16,32:16"; parse_ranges throws pv::Error ("<what>: ...") on anything else, or on overlapping ranges.
 std::string format_ranges(const std::vector<SampleRange>& ranges);
 std::vector<SampleRange> parse_ranges(const std::string& text, const std::string& what);

@@ -11,9 +11,8 @@
 
 #include "core/base/error.h"
 #include "core/base/parallel.h"
+#include "core/base/text.h"
 #include "core/base/tsan.h"
-#include "core/frame/partial.h"
-#include "core/render/sky_guide.h"
 
 namespace pv {
 
@@ -75,39 +74,11 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     m_pilot.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);
     m_main.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);
     m_main_passes = 0;
-    const RenderStats previous = m_stats;
     m_stats = RenderStats{};
     m_next_sample = 0;
-    // The guide is trained in the first pass (timed with it) and frozen for the accumulation, so every shard,
-    // resume and half buffer sees the same one; with set_keep_sky_guide, a camera or size change keeps it.
-    if (m_keep_guide && m_guide_decided && settings == m_guide_settings && m_scene_version == m_guide_version) {
-        m_stats.guide_used = previous.guide_used;
-        m_stats.guide_variance_ratio = previous.guide_variance_ratio;
-        return;
-    }
-    m_traceable->set_sky_guide(nullptr);
-    m_guide_pending = settings.sky_guide != SkyGuideMode::Off;
-    m_guide_decided = false;
-}
-
-RenderSettings Renderer::settings_as_rendered() const {
-    RenderSettings s = m_settings;
-    if (!sky_guide_applies(*m_traceable, m_settings))
-        s.sky_guide = SkyGuideMode::Off;
-    else if (s.sky_guide == SkyGuideMode::Auto && !m_guide_pending)  // decided: on only where the guide is used
-        s.sky_guide = m_traceable->sky_guide() ? SkyGuideMode::On : SkyGuideMode::Off;
-    return s;
-}
-
-std::string Renderer::sky_guide_status() const {
-    if (m_settings.sky_guide == SkyGuideMode::Off) return "";
-    if (!sky_guide_applies(*m_traceable, m_settings)) return "not applicable";
-    if (m_guide_pending) return "training in the first pass";
-    const char* state = m_traceable->sky_guide() ? "on" : "off";
-    if (m_settings.sky_guide != SkyGuideMode::Auto) return state;
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%s (auto: variance x%.2f predicted)", state, m_stats.guide_variance_ratio);
-    return buf;
+    m_guide.restart(*m_traceable, settings, m_scene_version);  // kept with set_keep_sky_guide, else trained again
+    m_stats.guide_used = m_guide.used();
+    m_stats.guide_variance_ratio = m_guide.variance_ratio();
 }
 
 void Renderer::load_film(Film film) {
@@ -122,19 +93,11 @@ void Renderer::load_film(Film film) {
 
 bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const auto start = std::chrono::steady_clock::now();
-    if (m_guide_pending) {
-        m_guide_pending = false;
-        SkyGuideTraining t;
-        m_pool->arena.execute([&] { t = train_sky_guide_judged(*m_traceable, m_settings, m_camera); });
-        if (t.guide)
-            m_stats.guide_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        m_stats.guide_variance_ratio = t.variance_ratio;
-        if (m_settings.sky_guide == SkyGuideMode::Auto && !t.use) t.guide = nullptr;
-        m_stats.guide_used = t.guide != nullptr;
-        m_traceable->set_sky_guide(std::move(t.guide));
-        m_guide_decided = true;
-        m_guide_settings = m_settings;
-        m_guide_version = m_scene_version;
+    if (m_guide.due()) {
+        m_pool->arena.execute([&] { m_guide.train_if_due(*m_traceable, m_settings, m_camera); });
+        m_stats.guide_seconds = m_guide.seconds();
+        m_stats.guide_used = m_guide.used();
+        m_stats.guide_variance_ratio = m_guide.variance_ratio();
     }
     const int w = m_film.width(), h = m_film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
