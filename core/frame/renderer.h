@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -125,7 +126,11 @@ public:
     void set_paths_in_flight(int n) { m_paths_in_flight = std::clamp(n, 1, kMaxPathsInFlight); }
     int paths_in_flight() const { return m_paths_in_flight; }
 
+    struct TileTotals;  // a tile's counters (renderer.cpp)
+
 private:
+    // The pass's bookkeeping once its tiles are done: counters, sample index, adaptive sampling, time.
+    void finish_pass(const TileTotals& totals, bool pilot, std::chrono::steady_clock::time_point start);
     std::unique_ptr<TraceableScene> m_traceable;
     RenderSettings m_settings;
     Camera m_camera;
