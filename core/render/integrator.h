@@ -69,8 +69,8 @@ struct PathCounters {
 constexpr uint32_t kCameraDims = 2;
 constexpr uint32_t kBounceDims = 5;
 
-// Russian roulette spares paths whose throughput max(beta) x eta^2 is at least this (the roulette block in
-// trace_path; every path walker that plays roulette, such as the sky guide's training, uses the same rule).
+// Russian roulette spares paths whose throughput max(beta) x eta^2 is at least this (PathWalker::roulette; the sky
+// guide's training walks its paths with a PathWalker).
 constexpr float kRouletteThroughput = 0.5f;
 
 // Starts sample `index` of pixel (x, y) and returns its camera ray: the film point jittered uniformly over the
