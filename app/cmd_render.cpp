@@ -24,7 +24,7 @@
 #include "core/frame/renderer.h"
 #include "core/image/image_io.h"
 #include "core/load/scene_file.h"
-#include "core/render/sky_guide.h"
+#include "core/render/sky_guide_training.h"
 
 namespace pv::app {
 namespace {

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "core/frame/aov.h"
-#include "core/render/sky_guide.h"
+#include "core/render/sky_guide_training.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

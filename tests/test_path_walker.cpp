@@ -87,6 +87,66 @@ TEST(PathWalker, InterleavedPathsMatchOneAtATime) {
 }
 
 // Interleaving where the hit data outgrows the caches, not on a small scene (where it only costs the switching).
+// An observer (PathObserver: the sky guide's training watches its paths with one) changes nothing in the path, sees
+// every light sample it adds: without MIS and without delta BSDFs, a path's radiance is the emission its camera ray sees (the same path with
+// max_depth 0) plus the light samples' radiance that light() reports, in the order they were added; and vertex()
+// comes at least once before each light sample, with a throughput no larger than the path's start.
+TEST(PathWalker, ObserverSeesEveryLightSampleAndChangesNothing) {
+    struct Watch final : PathObserver {
+        vec3 sum{0.f};
+        int vertices = 0, lights = 0;
+        bool ordered = true, draws_in_range = true, beta_bounded = true;
+        void vertex(const PathVertex& v) override {
+            ++vertices;
+            beta_bounded = beta_bounded && max_component(v.beta) <= 2.f * kRouletteThroughput + 1.f;
+        }
+        void light(const LightSample&, float u_select, vec2 u, vec3 added) override {
+            ordered = ordered && vertices > lights;
+            draws_in_range = draws_in_range && u_select >= 0.f && u_select < 1.f && u.x >= 0.f && u.x < 1.f &&
+                             u.y >= 0.f && u.y < 1.f;
+            ++lights;
+            sum += added;
+        }
+    };
+    const auto scene = test::cornell_box();  // no delta BSDF: emission after a bounce is light sampling's alone
+    const test::Tracer tracer(scene);
+    const ScopedFtzDaz ftz;
+    RenderSettings settings;
+    settings.sampler = SamplerKind::Independent;
+    settings.mis = false;
+    settings.seed = 3;
+    RenderSettings direct = settings;
+    direct.max_depth = 0;
+    const Camera camera(scene->camera, 16, 12);
+    int lights = 0;
+    for (int y = 0; y < 12; ++y)
+        for (int x = 0; x < 16; ++x) {
+            Sampler sampler(settings.seed, settings.sampler);
+            PathCounters c0, c1, cd;
+            const vec3 plain = trace_path(tracer, settings, camera_ray(camera, sampler, x, y, 0), sampler, c0);
+            const vec3 seen = trace_path(tracer, direct, camera_ray(camera, sampler, x, y, 0), sampler, cd);
+            Watch watch;
+            PathWalker w;
+            w.start(tracer, settings, camera_ray(camera, sampler, x, y, 0), sampler);
+            w.observe(&watch);
+            while (w.step()) {
+            }
+            c1 = w.counters();
+            ASSERT_TRUE(same_bits(plain, w.radiance())) << x << "," << y;
+            EXPECT_EQ(c0.rays, c1.rays);
+            EXPECT_EQ(c0.shadow_rays, c1.shadow_rays);
+            EXPECT_EQ(c0.vertices, c1.vertices);
+            EXPECT_TRUE(watch.ordered && watch.draws_in_range && watch.beta_bounded) << x << "," << y;
+            EXPECT_LE(uint64_t(watch.lights), c1.shadow_rays);
+            EXPECT_LE(uint64_t(watch.vertices), c1.vertices);
+            const vec3 expected = seen + watch.sum;
+            for (int k = 0; k < 3; ++k)
+                EXPECT_NEAR(w.radiance()[k], expected[k], 1e-5f * (1.f + expected[k])) << x << "," << y << " " << k;
+            lights += watch.lights;
+        }
+    EXPECT_GT(lights, 100);  // not vacuous: most paths see lights
+}
+
 TEST(PathWalker, InterleavesOnlyScenesLargerThanTheCaches) {
     EXPECT_EQ(Renderer(test::cornell_box(), 1).paths_in_flight(), 1);
     auto big = std::make_shared<Scene>();

@@ -7,7 +7,7 @@
 
 #include "core/frame/partial.h"
 #include "core/frame/renderer.h"
-#include "core/render/sky_guide.h"
+#include "core/render/sky_guide_training.h"
 #include "tests/support/chi2.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"

@@ -11,19 +11,31 @@
 
 #include "core/base/error.h"
 #include "core/base/parallel.h"
+#include "core/base/text.h"
 #include "core/base/tsan.h"
-#include "core/frame/partial.h"
-#include "core/render/sky_guide.h"
 
 namespace pv {
 
 namespace {
 constexpr int kTile = 16;
 
-struct alignas(64) TileTotals {
+}  // namespace
+
+// A tile's counters (summed once per tile: no shared cache lines in the hot loop).
+struct alignas(64) Renderer::TileTotals {
     PathCounters counters;
     uint64_t dropped = 0;
 };
+
+namespace {
+Renderer::TileTotals totals_sum(const std::vector<Renderer::TileTotals>& totals) {
+    Renderer::TileTotals sum;
+    for (const Renderer::TileTotals& tt : totals) {
+        sum.counters += tt.counters;
+        sum.dropped += tt.dropped;
+    }
+    return sum;
+}
 }  // namespace
 
 struct Renderer::Pool {
@@ -75,39 +87,11 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     m_pilot.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);
     m_main.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);
     m_main_passes = 0;
-    const RenderStats previous = m_stats;
     m_stats = RenderStats{};
     m_next_sample = 0;
-    // The guide is trained in the first pass (timed with it) and frozen for the accumulation, so every shard,
-    // resume and half buffer sees the same one; with set_keep_sky_guide, a camera or size change keeps it.
-    if (m_keep_guide && m_guide_decided && settings == m_guide_settings && m_scene_version == m_guide_version) {
-        m_stats.guide_used = previous.guide_used;
-        m_stats.guide_variance_ratio = previous.guide_variance_ratio;
-        return;
-    }
-    m_traceable->set_sky_guide(nullptr);
-    m_guide_pending = settings.sky_guide != SkyGuideMode::Off;
-    m_guide_decided = false;
-}
-
-RenderSettings Renderer::settings_as_rendered() const {
-    RenderSettings s = m_settings;
-    if (!sky_guide_applies(*m_traceable, m_settings))
-        s.sky_guide = SkyGuideMode::Off;
-    else if (s.sky_guide == SkyGuideMode::Auto && !m_guide_pending)  // decided: on only where the guide is used
-        s.sky_guide = m_traceable->sky_guide() ? SkyGuideMode::On : SkyGuideMode::Off;
-    return s;
-}
-
-std::string Renderer::sky_guide_status() const {
-    if (m_settings.sky_guide == SkyGuideMode::Off) return "";
-    if (!sky_guide_applies(*m_traceable, m_settings)) return "not applicable";
-    if (m_guide_pending) return "training in the first pass";
-    const char* state = m_traceable->sky_guide() ? "on" : "off";
-    if (m_settings.sky_guide != SkyGuideMode::Auto) return state;
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "%s (auto: variance x%.2f predicted)", state, m_stats.guide_variance_ratio);
-    return buf;
+    m_guide.restart(*m_traceable, settings, m_scene_version);  // kept with set_keep_sky_guide, else trained again
+    m_stats.guide_used = m_guide.used();
+    m_stats.guide_variance_ratio = m_guide.variance_ratio();
 }
 
 void Renderer::load_film(Film film) {
@@ -120,117 +104,135 @@ void Renderer::load_film(Film film) {
     m_film = std::move(film);
 }
 
+namespace {
+
+// A path in flight on a render thread (PathWalker), with its own sampler (Sampler::start resets it per sample).
+struct Slot {
+    PathWalker walker;
+    Sampler sampler;
+    int x = 0, y = 0;
+    uint32_t sample = 0;
+    bool busy = false;
+};
+
+// One pass: what every tile reads, and the tile's work.
+struct PassJob {
+    const TraceableScene& ts;
+    const RenderSettings& settings;
+    const Camera& camera;
+    Film& film;             // m_film, or with allocation the pilot or main film
+    AdaptiveMask& mask;     // with allocation, the pixels' sample indices
+    const uint8_t* active;  // adaptive sampling's mask (nothing: every pixel)
+    PixelRect region;
+    int w, tiles_x;
+    uint32_t index;         // the pass's sample index (without allocation)
+    uint32_t first_sample;  // the accumulation's first index (with it)
+    bool own_index, pilot;
+    int in_flight;
+
+    // The tile's pixels in scan order, each path in one of `in_flight` slots, the slots advanced in turn
+    // (PathWalker::step) and each refilled with the next pixel as its path ends. A pixel takes one sample per pass,
+    // so its film sums see the same values in the same order whatever the interleaving.
+    void render_tile(int tile, Slot* slots, Renderer::TileTotals& tt) const {
+        // The tile clipped to the region (the whole image without one: the tiles as they always were).
+        const int x0 = std::max((tile % tiles_x) * kTile, region.x0);
+        const int y0 = std::max((tile / tiles_x) * kTile, region.y0);
+        const int x1 = std::min({(tile % tiles_x) * kTile + kTile, w, region.x1});
+        const int y1 = std::min({(tile / tiles_x) * kTile + kTile, film.height(), region.y1});
+        if (x1 <= x0 || y1 <= y0) return;
+        const int tile_w = x1 - x0, tile_pixels = tile_w * (y1 - y0);
+        int next = 0;
+        auto start_next = [&](Slot& s) {
+            while (next < tile_pixels) {
+                const int x = x0 + next % tile_w, y = y0 + next / tile_w;
+                ++next;
+                if (active && !active[size_t(y) * size_t(w) + size_t(x)]) continue;
+                film.prefetch(x, y);
+                s.x = x;
+                s.y = y;
+                s.sample = !own_index ? index
+                           : pilot    ? first_sample + mask.pilot_index(x, y)++
+                                      : first_sample + mask.next_index(x, y)++;
+                s.walker.start(ts, settings, camera_ray(camera, s.sampler, x, y, s.sample), s.sampler);
+                return s.busy = true;
+            }
+            return s.busy = false;
+        };
+        int busy = 0;
+        for (int i = 0; i < in_flight; ++i) busy += start_next(slots[i]) ? 1 : 0;
+        while (busy > 0)
+            for (int i = 0; i < in_flight; ++i) {
+                Slot& s = slots[i];
+                if (!s.busy || s.walker.step()) continue;
+                const PathCounters& c = s.walker.counters();
+                tt.counters += c;
+                if (pilot) mask.add_rays(s.x, s.y, c.rays + c.shadow_rays);
+                if (!film.add(s.x, s.y, s.sample, s.walker.radiance())) tt.dropped++;
+                if (!start_next(s)) --busy;
+            }
+    }
+};
+
+}  // namespace
+
 bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     const auto start = std::chrono::steady_clock::now();
-    if (m_guide_pending) {
-        m_guide_pending = false;
-        SkyGuideTraining t;
-        m_pool->arena.execute([&] { t = train_sky_guide_judged(*m_traceable, m_settings, m_camera); });
-        if (t.guide)
-            m_stats.guide_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        m_stats.guide_variance_ratio = t.variance_ratio;
-        if (m_settings.sky_guide == SkyGuideMode::Auto && !t.use) t.guide = nullptr;
-        m_stats.guide_used = t.guide != nullptr;
-        m_traceable->set_sky_guide(std::move(t.guide));
-        m_guide_decided = true;
-        m_guide_settings = m_settings;
-        m_guide_version = m_scene_version;
+    if (m_guide.due()) {
+        m_pool->arena.execute([&] { m_guide.train_if_due(*m_traceable, m_settings, m_camera); });
+        m_stats.guide_seconds = m_guide.seconds();
+        m_stats.guide_used = m_guide.used();
+        m_stats.guide_variance_ratio = m_guide.variance_ratio();
     }
-    const int w = m_film.width(), h = m_film.height();
-    const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
-    const uint32_t index = m_next_sample;
     if (m_stats.spp == 0) m_first_sample = m_next_sample;
-    const TraceableScene& ts = *m_traceable;
-    std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
-    std::atomic<bool> cancelled{false};
     // Allocation: pixels take the samples of their own count (core/frame/adaptive.h), in a pilot pass under the pilot
     // seed into the pilot film, otherwise into the main film; without it, the pass's index into m_film.
     const bool own_index = m_adaptive.allocate;
     const bool pilot = own_index && is_pilot_pass(m_stats.spp + 1);
     if (own_index) m_mask.prepare_pass(pilot, m_main_passes + 1);
-    Film& film = !own_index ? m_film : pilot ? m_pilot : m_main;
+    const int w = m_film.width(), h = m_film.height();
+    const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
+    const PassJob job{*m_traceable,   m_settings,
+                      m_camera,       !own_index ? m_film : pilot ? m_pilot : m_main,
+                      m_mask,         m_adaptive.masks() ? m_mask.mask().data() : nullptr,
+                      m_region,       w,
+                      tiles_x,        m_next_sample,
+                      m_first_sample, own_index,
+                      pilot,          m_paths_in_flight};
     const uint32_t seed = pilot ? pilot_seed(m_settings.seed) : m_settings.seed;
-    const uint8_t* active = m_adaptive.masks() ? m_mask.mask().data() : nullptr;  // nothing: every pixel
-    const int in_flight = m_paths_in_flight;
-    const PixelRect region = m_region;
-
+    std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
+    std::atomic<bool> cancelled{false};
     const char fork_edge = 0, join_edge = 0;  // addresses for TSan's happens-before edges (core/base/tsan.h)
     tsan_release(&fork_edge);
     m_pool->arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, tiles_x * tiles_y, 1), [&](const tbb::blocked_range<int>& r) {
             const TsanTaskScope tsan_scope(&fork_edge, &join_edge);
             enable_ftz_daz();
-            // The paths in flight (PathWalker), each with its own sampler (Sampler::start resets it per sample).
-            struct Slot {
-                PathWalker walker;
-                Sampler sampler;
-                int x = 0, y = 0;
-                uint32_t sample = 0;
-                bool busy = false;
-            };
             Slot slots[kMaxPathsInFlight];
-            for (int i = 0; i < in_flight; ++i) slots[i].sampler = Sampler(seed, m_settings.sampler);
+            for (int i = 0; i < job.in_flight; ++i) slots[i].sampler = Sampler(seed, m_settings.sampler);
             for (int tile = r.begin(); tile != r.end(); ++tile) {
                 if (cancel && cancel->load(std::memory_order_relaxed)) {
                     cancelled.store(true, std::memory_order_relaxed);
                     return;
                 }
-                TileTotals& tt = totals[size_t(tile)];
-                // The tile clipped to the region (the whole image without one: the tiles as they always were).
-                const int x0 = std::max((tile % tiles_x) * kTile, region.x0);
-                const int y0 = std::max((tile / tiles_x) * kTile, region.y0);
-                const int x1 = std::min({(tile % tiles_x) * kTile + kTile, w, region.x1});
-                const int y1 = std::min({(tile / tiles_x) * kTile + kTile, h, region.y1});
-                if (x1 <= x0 || y1 <= y0) continue;
-                const int tile_w = x1 - x0, tile_pixels = tile_w * (y1 - y0);
-                // The tile's pixels in scan order, each path in one of `in_flight` slots, the slots advanced in turn
-                // (PathWalker::step) and each refilled with the next pixel as its path ends. A pixel takes one
-                // sample per pass, so its film sums see the same values in the same order whatever the interleaving.
-                int next = 0;
-                auto start_next = [&](Slot& s) {
-                    while (next < tile_pixels) {
-                        const int x = x0 + next % tile_w, y = y0 + next / tile_w;
-                        ++next;
-                        if (active && !active[size_t(y) * size_t(w) + size_t(x)]) continue;
-                        film.prefetch(x, y);
-                        s.x = x;
-                        s.y = y;
-                        s.sample = !own_index ? index
-                                   : pilot    ? m_first_sample + m_mask.pilot_index(x, y)++
-                                              : m_first_sample + m_mask.next_index(x, y)++;
-                        s.walker.start(ts, m_settings, camera_ray(m_camera, s.sampler, x, y, s.sample), s.sampler);
-                        return s.busy = true;
-                    }
-                    return s.busy = false;
-                };
-                int busy = 0;
-                for (int i = 0; i < in_flight; ++i) busy += start_next(slots[i]) ? 1 : 0;
-                while (busy > 0)
-                    for (int i = 0; i < in_flight; ++i) {
-                        Slot& s = slots[i];
-                        if (!s.busy || s.walker.step()) continue;
-                        const PathCounters& c = s.walker.counters();
-                        tt.counters += c;
-                        if (pilot) m_mask.add_rays(s.x, s.y, c.rays + c.shadow_rays);
-                        if (!film.add(s.x, s.y, s.sample, s.walker.radiance())) tt.dropped++;
-                        if (!start_next(s)) --busy;
-                    }
+                job.render_tile(tile, slots, totals[size_t(tile)]);
             }
         });
     });
     tsan_acquire(&join_edge);
     if (cancelled.load()) return false;
+    finish_pass(totals_sum(totals), pilot, start);
+    return true;
+}
 
-    for (const TileTotals& tt : totals) {
-        m_stats.rays += tt.counters.rays;
-        m_stats.shadow_rays += tt.counters.shadow_rays;
-        m_stats.paths += tt.counters.paths;
-        m_stats.vertices += tt.counters.vertices;
-        m_stats.dropped += tt.dropped;
-    }
+void Renderer::finish_pass(const TileTotals& totals, bool pilot, std::chrono::steady_clock::time_point start) {
+    m_stats.rays += totals.counters.rays;
+    m_stats.shadow_rays += totals.counters.shadow_rays;
+    m_stats.paths += totals.counters.paths;
+    m_stats.vertices += totals.counters.vertices;
+    m_stats.dropped += totals.dropped;
     m_stats.spp++;
     m_next_sample++;
-    if (own_index) {
+    if (m_adaptive.allocate) {
         if (pilot)
             m_mask.update_weights(m_pilot, m_adaptive);
         else
@@ -240,7 +242,6 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     m_mask.update(m_film, m_stats.spp, m_adaptive);
     m_stats.last_pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     m_stats.seconds += m_stats.last_pass_seconds;
-    return true;
 }
 
 Metadata render_metadata(const Renderer& r) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,6 +15,7 @@
 #include "core/image/film.h"
 #include "core/image/image_io.h"
 #include "core/render/integrator.h"
+#include "core/render/sky_guide_training.h"
 #include "core/render/traceable_scene.h"
 #include "core/scene/camera.h"
 
@@ -68,7 +70,7 @@ public:
     // decision (any guide leaves the estimator unbiased; retraining at every camera move would delay each first
     // pass while the user orbits). New settings, materials or environment retrain. Off by default: a render's
     // guide then depends only on its own camera, settings and scene.
-    void set_keep_sky_guide(bool keep) { m_keep_guide = keep; }
+    void set_keep_sky_guide(bool keep) { m_guide.set_keep(keep); }
 
     // Passes from now on render sample indices first, first + 1, ... (restart() starts at 0), so that a render
     // can be split into sample ranges and merged (core/frame/partial.h). Not concurrent with render_pass().
@@ -107,10 +109,10 @@ public:
     // The settings with sky_guide on only where the guide applies (sky_guide_applies) and, for auto, once the first
     // pass decided, where it is used (auto until then): what the image depends on, for metadata and partial renders
     // (a render the guide cannot change keeps the string it had before it).
-    RenderSettings settings_as_rendered() const;
+    RenderSettings settings_as_rendered() const { return m_guide.as_rendered(*m_traceable, m_settings); }
     // What the sky guide does in this accumulation, for the viewer: "" with --sky-guide off, else "not applicable",
     // "training in the first pass", or "on" / "off", with the pilot's predicted variance ratio for auto.
-    std::string sky_guide_status() const;
+    std::string sky_guide_status() const { return m_guide.status(*m_traceable, m_settings); }
     const Camera& camera() const { return m_camera; }
     const Scene& scene() const { return m_traceable->scene(); }
     // The scene as traced: current materials and environment, BVH, lights.
@@ -124,7 +126,11 @@ public:
     void set_paths_in_flight(int n) { m_paths_in_flight = std::clamp(n, 1, kMaxPathsInFlight); }
     int paths_in_flight() const { return m_paths_in_flight; }
 
+    struct TileTotals;  // a tile's counters (renderer.cpp)
+
 private:
+    // The pass's bookkeeping once its tiles are done: counters, sample index, adaptive sampling, time.
+    void finish_pass(const TileTotals& totals, bool pilot, std::chrono::steady_clock::time_point start);
     std::unique_ptr<TraceableScene> m_traceable;
     RenderSettings m_settings;
     Camera m_camera;
@@ -138,11 +144,8 @@ private:
     RenderStats m_stats;
     uint32_t m_next_sample = 0;
     uint32_t m_first_sample = 0;   // m_next_sample at the accumulation's first pass
-    bool m_guide_pending = false;  // train the sky guide in the next pass
-    bool m_keep_guide = false;     // set_keep_sky_guide
-    bool m_guide_decided = false;  // trained (so not pending) for m_guide_settings and m_guide_version
-    RenderSettings m_guide_settings;
-    uint64_t m_scene_version = 0, m_guide_version = 0;  // counts set_materials / set_environment calls
+    SkyGuideLifecycle m_guide;     // the sky guide's training and retraining (core/render/sky_guide_training.h)
+    uint64_t m_scene_version = 0;  // counts set_materials / set_environment calls
     int m_threads = 1;
     int m_paths_in_flight = 1;
     struct Pool;

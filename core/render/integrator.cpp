@@ -29,6 +29,7 @@ void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings,
     m_ts = &ts;
     m_settings = &settings;
     m_sampler = &sampler;
+    m_observer = nullptr;
     // The hit data from the packed records (TriangleRecord) when the scene has them, else from its indexed arrays:
     // two instantiations, so that neither carries the other's loads and branches per vertex.
     m_step = ts.triangle_record(0) ? &PathWalker::step_with<true> : &PathWalker::step_with<false>;
@@ -57,255 +58,315 @@ void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings,
 
 // One vertex is three stages: Trace (the closest hit, then the hit record's prefetch: wait), Surface (the surface
 // point, emission found, the texels' prefetch: wait, when textured) and Scatter (light sample and shadow ray, BSDF
-// sample, roulette, the next ray), which goes on to the next vertex's Trace without waiting.
+// sample, roulette, the next ray), which goes on to the next vertex's Trace without waiting. Each stage is a function
+// of its own, as are Scatter's parts (next_event, punctual_lights, continue_path, roulette); all are inlined here
+// (PV_STAGE), so the hot loop is the one function it was.
+#define PV_STAGE [[gnu::always_inline]] inline
+
 template <bool kPacked>
 bool PathWalker::step_with() {
-    const TraceableScene& ts = *m_ts;
-    const Scene& scene = ts.scene();
-    const RenderSettings& settings = *m_settings;
-    Sampler& sampler = *m_sampler;
-    const bool nee = m_nee, mis = m_mis;
-    Hit& hit = m_hit;
     for (;;) {
         switch (m_stage) {
-            case Stage::Trace: {
-                ++m_counters.rays;
-                if (!ts.intersect(m_ray, hit)) {
-                    // The environment: weighted against its own light sampling, as for emissive triangles.
-                    if (!ts.environment_black()) {
-                        if (!nee || m_specular_bounce) {
-                            m_L += m_beta * ts.emitted_escape(m_ray.d);
-                        } else {
-                            float light_pdf = 0.f;
-                            const vec3 le = ts.emitted_escape_and_pdf(m_prev_p, m_ray.d, &light_pdf);
-                            m_L += m_beta * le * bsdf_hit_weight(mis, m_prev_pdf, light_pdf);
-                        }
-                    }
-                    return finish();
-                }
-                ++m_counters.vertices;
-                if (m_absorbing) [[unlikely]]
-                    m_beta *= glm::exp(-m_sigma * hit.t);  // Beer-Lambert inside a solid (m_ray.d is a unit vector)
-                // The hit triangle's vertices, uvs and material from its packed record (one cache line) when there is
-                // one.
-                m_record = kPacked ? ts.triangle_record(hit.prim) : nullptr;
-                prefetch_hit(scene, hit, m_record);
-                m_early = m_early_sky && m_depth < settings.max_depth;
-                m_early_found = false;
-                if (m_early) {
-                    m_early_dim = sampler.reserve(kBounceDims);
-                    m_early_u = sampler.get2d_at(m_early_dim + 1);
-                    m_early_found =
-                        ts.sample_light(vec3(0.f), vec3(0.f), 0.f, m_early_u, m_early_ls);  // the point is not used
-                }
-                m_stage = Stage::Surface;
+            case Stage::Trace:
+                if (trace<kPacked>() == Next::End) return finish();
                 return true;  // the record is on its way
-            }
             case Stage::Surface: {
-                if constexpr (kPacked)
-                    m_sf = surface_point(scene, hit, *m_record);
-                else
-                    m_sf = surface_point(scene, hit);
-                m_mat = kPacked ? &ts.materials()[m_record->material()] : &ts.material(hit.prim);
-                const Material& mat = *m_mat;
-                // A normal map tilts the shading normal (materials without one skip this).
-                if (mat.normal_texture != kNoIndex) [[unlikely]]
-                    apply_normal_map(scene, mat, hit,
-                                     kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v),
-                                     -m_ray.d, m_sf);
-                m_front = glm::dot(-m_ray.d, m_sf.ng) > 0.f;
-                // Emission found by the BSDF-sampled ray; with NEE it is weighted so it is never counted twice.
-                if (TraceableScene::emits(mat, m_front)) {
-                    const vec3 le = emitted_at(scene, mat, hit.prim, hit.u, hit.v);
-                    if (!nee || m_specular_bounce)
-                        m_L += m_beta * le;
-                    else
-                        m_L += m_beta * le *
-                               bsdf_hit_weight(mis, m_prev_pdf,
-                                               ts.light_pdf_hit(hit.prim, m_prev_p, m_prev_n, m_sf.p, m_sf.ng));
-                }
-                if (m_depth >= settings.max_depth) return finish();
-                // Only textured materials pay for the texture lookup and a local copy of the BSDF. The lookup waits
-                // until the BSDF's value is needed (after the shadow ray is traced), its texels prefetched now: on
-                // large scenes their load is a cache miss, which then overlaps other paths' work and Embree's
-                // traversal.
-                m_tex = hit_textures(scene, mat, hit, [&] {
-                    return kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v);
-                });
-                m_stage = Stage::Scatter;
-                if (m_tex.base_color) {
-                    m_texels = m_tex.base_color->prefetch(m_tex.uv);
-                    return true;  // the texels are on their way
-                }
+                const Next next = surface<kPacked>();
+                if (next == Next::End) return finish();
+                if (next == Next::Wait) return true;  // the texels are on their way
                 [[fallthrough]];
             }
-            case Stage::Scatter: {
-                const Material& mat = *m_mat;
-                const SurfacePoint& sf = m_sf;
-                const vec3 wo_world = -m_ray.d;
-                // The BSDF changes per hit (a texture or vertex colours): it is built by shade() when first needed,
-                // as core/render/shading.h's hit_bsdf builds it for the AOV pass and the sky guide's training.
-                const bool per_hit = m_tex.per_hit();
-                const Bsdf* bsdf = &mat.bsdf;
-                std::optional<Bsdf> textured;
-                auto shade = [&]() -> const Bsdf& {
-                    if (per_hit && !textured) {
-                        textured.emplace(mat.bsdf);
-                        apply_hit_textures(*textured, m_tex,
-                                           m_tex.base_color ? m_tex.base_color->lookup(m_texels) : vec4(0.f));
-                        bsdf = &*textured;
-                    }
-                    return *bsdf;
-                };
-
-                // Shading frame (core/render/surface.h).
-                const auto [ng, ns] = shading_normals(sf, wo_world, m_front, mat.bsdf);
-                const Frame frame(ns);
-                const vec3 wo = frame.to_local(wo_world);
-
-                // This bounce's dimensions: light selection (+0), light point (+1), lobe (+2), direction (+3), roulette
-                // (+4).
-                const bool early = m_early;
-                const uint32_t dim = early ? m_early_dim : sampler.reserve(kBounceDims);
-                // Ray origins off the surface on each side of it, computed once when first needed (the shadow ray and
-                // the continuation usually leave on the same side).
-                vec3 origin[2];
-                bool have_origin[2] = {false, false};
-                auto origin_toward = [&](vec3 w) -> vec3 {
-                    const int side = glm::dot(w, sf.ng) > 0.f ? 0 : 1;
-                    if (!have_origin[side]) {
-                        origin[side] = offset_ray_origin(sf.p, side == 0 ? sf.ng : -sf.ng, sf.p_error);
-                        have_origin[side] = true;
-                    }
-                    return origin[side];
-                };
-
-                // The bounce's draws, taken together so that their independent hash chains overlap; only those the
-                // vertex uses (one-lobe BSDFs need no lobe draw, delta ones no light or direction draws), in dimension
-                // order.
-                const bool do_nee = nee && !is_delta(*bsdf);
-                const float u_light_select = do_nee && m_select_draw ? sampler.get1d_at(dim) : 0.f;
-                const vec2 u_light = do_nee ? (early ? m_early_u : sampler.get2d_at(dim + 1)) : vec2(0.f);
-                const bool one_lobe = std::holds_alternative<Lambertian>(*bsdf) ||
-                                      std::holds_alternative<Mirror>(*bsdf) || lambert_only(*bsdf);
-                const float u_lobe = one_lobe ? 0.5f : sampler.get1d_at(dim + 2);
-                const vec2 u_bsdf = is_delta(*bsdf) ? vec2(0.5f) : sampler.get2d_at(dim + 3);  // delta lobes ignore it
-
-                // Next-event estimation.
-                if (do_nee) {
-                    // The environment or a triangle; the selection probability is in the pdf.
-                    LightSample ls = m_early_ls;
-                    if ((early ? m_early_found : ts.sample_light(sf.p, ns, u_light_select, u_light, ls)) &&
-                        !is_black(ls.le)) {
-                        const vec3 wi = frame.to_local(ls.wi);
-                        const float cos_gl = glm::dot(ls.wi, ng);
-                        const bool same_side = (cos_gl > 0.f) == (wi.z > 0.f);
-                        // An untextured BSDF is evaluated first (no shadow ray toward a black value), a textured one
-                        // once the shadow ray is traced: its traversal hides the load of the prefetched texels.
-                        // Textures apply to reflection-only lobes, black below the surface whatever the colour: no
-                        // shadow ray there either (unless a metallic-roughness material transmits).
-                        vec3 f = same_side && !per_hit ? eval(*bsdf, wo, wi) : vec3(0.f);
-                        bool visible = false;
-                        if (same_side && (per_hit ? reflects(wo, wi) || transmits(*bsdf) : !is_black(f))) {
-                            const Ray shadow = shadow_ray(origin_toward(ls.wi), ls);
-                            ++m_counters.shadow_rays;
-                            visible = !ts.occluded(shadow);
-                            if (visible && per_hit) f = eval(shade(), wo, wi);
-                        }
-                        if (visible && !is_black(f)) {
-                            // The power heuristic's weight over the light pdf, w / p_l = p_l / (p_l^2 + p_b^2): one
-                            // division (power_heuristic's guards: an infinite p_l weighs 1 / p_l = 0).
-                            const float pl = ls.pdf;
-                            float w_over_pdf = 1.f / pl;
-                            if (mis && !std::isinf(pl)) {
-                                const float pb = pdf(*bsdf, wo, wi);
-                                const float denom = pl * pl + pb * pb;
-                                w_over_pdf =
-                                    denom > 0.f && std::isfinite(denom) ? pl / denom : power_heuristic(pl, pb) / pl;
-                            }
-                            m_L += m_beta * f * (std::fabs(wi.z) * w_over_pdf) * ls.le;
-                        }
-                    }
-                }
-
-                // Punctual lights (glTF KHR_lights_punctual): delta lights, reached by next-event estimation alone
-                // (no BSDF sample can hit them), every one at every non-delta vertex, without a random draw or MIS.
-                if (!scene.punctual_lights.empty() && settings.light_sampling && !is_delta(*bsdf)) {
-                    for (const PunctualLight& light : scene.punctual_lights) {
-                        LightSample ls;
-                        if (!sample_punctual(light, sf.p, ls)) continue;
-                        const vec3 wi = frame.to_local(ls.wi);
-                        if ((glm::dot(ls.wi, ng) > 0.f) != (wi.z > 0.f)) continue;
-                        const vec3 f = eval(shade(), wo, wi);
-                        if (is_black(f)) continue;
-                        ++m_counters.shadow_rays;
-                        if (ts.occluded(shadow_ray(origin_toward(ls.wi), ls))) continue;
-                        m_L += m_beta * f * std::fabs(wi.z) * ls.le;
-                    }
-                }
-
-                // BSDF sampling for the next direction.
-                auto bs = sample(shade(), wo, u_lobe, u_bsdf);
-                if (!bs) return finish();
-                vec3 wi_world = frame.to_world(bs->wi);
-                float cos_g = glm::dot(wi_world, ng);
-                if (((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) && is_delta(*bsdf) && ns != ng) {
-                    // A mirror or glass direction about the shading normal that crosses the facet on the wrong side (at
-                    // a smooth-shaded silhouette): the surface itself is the facet here, so take this sample about the
-                    // geometric normal. Each sample's weight stays the lobe's own (1 reflected, 1/eta^2 refracted), so
-                    // no energy is lost or gained, where ending the path darkened the rim
-                    // (tests/test_glass_furnace.cpp).
-                    const Frame geometric(ng);
-                    bs =
-                        detail::sample_other(*bsdf, geometric.to_local(wo_world), u_lobe, u_bsdf);  // out of line: rare
-                    if (!bs) return finish();
-                    wi_world = geometric.to_world(bs->wi);
-                    cos_g = glm::dot(wi_world, ng);
-                }
-                if ((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) return finish();  // would leak through
-                m_beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
-                if ((bs->wi.z > 0.f) != (wo.z > 0.f)) [[unlikely]] {
-                    // A transmission: into or out of an absorbing solid (oriented frame: wo.z > 0 is outside).
-                    const auto* mr = std::get_if<MetallicRoughness>(bsdf);
-                    if (mr && mr->solid()) {
-                        m_absorbing = wo.z > 0.f && !is_black(mr->sigma);
-                        m_sigma = mr->sigma;
-                    }
-                }
-                if (!is_finite(m_beta) || is_black(m_beta)) return finish();
-                m_specular_bounce = bs->is_delta;
-                m_prev_pdf = bs->pdf;
-                m_prev_p = sf.p;
-                m_prev_n = ns;                // the normal sample_light was given here
-                m_eta_scale *= sqr(bs->eta);  // 1 except across a refraction
-
-                // Russian roulette (issue 13, measured in docs/convergence.md): a path whose throughput m = max(beta) x
-                // eta_scale (pbrt-v4's: the radiance scaling of refraction removed) is at least kRouletteThroughput
-                // always continues; below it, it continues with probability m / kRouletteThroughput and survivors are
-                // divided by that, so the estimator stays unbiased and a surviving path's throughput is brought back to
-                // the threshold. pbrt-v4's rule (threshold 1 from the second vertex) plays roulette at nearly every
-                // bounce, since any surface that is not white leaves the throughput below 1; 0.5 measured best in
-                // efficiency 1/(relMSE x s) over the Cornell box, the mirror-and-glass box, the sunlit room, Sponza and
-                // Sibenik.
-                if (settings.russian_roulette && m_depth >= 1) {
-                    const float m = max_component(m_beta) * m_eta_scale;
-                    if (m < kRouletteThroughput) {
-                        const float p = m / kRouletteThroughput;
-                        if (sampler.get1d_at(dim + 4) >= p) return finish();
-                        m_beta /= p;
-                    }
-                }
-
-                m_ray.o = origin_toward(wi_world);
-                m_ray.d = wi_world;
-                m_ray.tmax = std::numeric_limits<float>::infinity();
-                ++m_depth;
-                m_stage = Stage::Trace;
+            case Stage::Scatter:
+                if (scatter() == Next::End) return finish();
                 break;  // on to the next vertex's closest hit
-            }
         }
     }
 }
+
+// The closest hit (or the escape to the environment), the hit record's prefetch and, with m_early_sky, the
+// environment's light sample.
+template <bool kPacked>
+PV_STAGE PathWalker::Next PathWalker::trace() {
+    const TraceableScene& ts = *m_ts;
+    Hit& hit = m_hit;
+    ++m_counters.rays;
+    if (!ts.intersect(m_ray, hit)) {
+        escape();
+        return Next::End;
+    }
+    ++m_counters.vertices;
+    if (m_absorbing) [[unlikely]]
+        m_beta *= glm::exp(-m_sigma * hit.t);  // Beer-Lambert inside a solid (m_ray.d is a unit vector)
+    // The hit triangle's vertices, uvs and material from its packed record (one cache line) when there is one.
+    m_record = kPacked ? ts.triangle_record(hit.prim) : nullptr;
+    prefetch_hit(ts.scene(), hit, m_record);
+    m_early = m_early_sky && m_depth < m_settings->max_depth;
+    m_early_found = false;
+    if (m_early) {
+        m_early_dim = m_sampler->reserve(kBounceDims);
+        m_early_u = m_sampler->get2d_at(m_early_dim + 1);
+        m_early_found = ts.sample_light(vec3(0.f), vec3(0.f), 0.f, m_early_u, m_early_ls);  // the point is not used
+    }
+    m_stage = Stage::Surface;
+    return Next::Wait;
+}
+
+// The environment seen by the escaping ray: weighted against its own light sampling, as for emissive triangles.
+PV_STAGE void PathWalker::escape() {
+    const TraceableScene& ts = *m_ts;
+    if (ts.environment_black()) return;
+    if (!m_nee || m_specular_bounce) {
+        m_L += m_beta * ts.emitted_escape(m_ray.d);
+    } else {
+        float light_pdf = 0.f;
+        const vec3 le = ts.emitted_escape_and_pdf(m_prev_p, m_ray.d, &light_pdf);
+        m_L += m_beta * le * bsdf_hit_weight(m_mis, m_prev_pdf, light_pdf);
+    }
+}
+
+// The surface point and material, emission found, and the texture lookup's prefetch (Wait when textured).
+template <bool kPacked>
+PV_STAGE PathWalker::Next PathWalker::surface() {
+    const TraceableScene& ts = *m_ts;
+    const Scene& scene = ts.scene();
+    const Hit& hit = m_hit;
+    if constexpr (kPacked)
+        m_sf = surface_point(scene, hit, *m_record);
+    else
+        m_sf = surface_point(scene, hit);
+    m_mat = kPacked ? &ts.materials()[m_record->material()] : &ts.material(hit.prim);
+    const Material& mat = *m_mat;
+    // A normal map tilts the shading normal (materials without one skip this).
+    if (mat.normal_texture != kNoIndex) [[unlikely]]
+        apply_normal_map(scene, mat, hit, kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v),
+                         -m_ray.d, m_sf);
+    m_front = glm::dot(-m_ray.d, m_sf.ng) > 0.f;
+    if (TraceableScene::emits(mat, m_front)) emission_found();
+    if (m_depth >= m_settings->max_depth) return Next::End;
+    // Only textured materials pay for the texture lookup and a local copy of the BSDF. The lookup waits until the
+    // BSDF's value is needed (after the shadow ray is traced), its texels prefetched now: on large scenes their load
+    // is a cache miss, which then overlaps other paths' work and Embree's traversal.
+    m_tex = hit_textures(scene, mat, hit,
+                         [&] { return kPacked ? m_record->uv_at(hit.u, hit.v) : scene.uv_at(hit.prim, hit.u, hit.v); });
+    m_stage = Stage::Scatter;
+    if (m_tex.base_color) {
+        m_texels = m_tex.base_color->prefetch(m_tex.uv);
+        return Next::Wait;
+    }
+    return Next::Go;
+}
+
+// Emission found by the BSDF-sampled ray; with NEE it is weighted so it is never counted twice.
+PV_STAGE void PathWalker::emission_found() {
+    const TraceableScene& ts = *m_ts;
+    const Hit& hit = m_hit;
+    const vec3 le = emitted_at(ts.scene(), *m_mat, hit.prim, hit.u, hit.v);
+    if (!m_nee || m_specular_bounce)
+        m_L += m_beta * le;
+    else
+        m_L += m_beta * le *
+               bsdf_hit_weight(m_mis, m_prev_pdf, ts.light_pdf_hit(hit.prim, m_prev_p, m_prev_n, m_sf.p, m_sf.ng));
+}
+
+// The vertex being scattered: its shading frame, its BSDF (built with the hit's textures when first needed) and its
+// ray origins off the surface.
+struct PathWalker::Vertex {
+    const Material& mat;
+    const SurfacePoint& sf;
+    const HitTextures& tex;
+    const TexelFootprint& texels;
+    const bool per_hit;  // the BSDF changes per hit (a texture or vertex colours)
+    const Bsdf* bsdf;
+    std::optional<Bsdf> textured;
+    vec3 ng, ns;
+    Frame frame;
+    vec3 wo_world, wo;
+    // Ray origins off the surface on each side of it, computed once when first needed (the shadow ray and the
+    // continuation usually leave on the same side).
+    vec3 origin[2];
+    bool have_origin[2] = {false, false};
+
+    [[gnu::always_inline]] Vertex(const Material& m, const SurfacePoint& s, const HitTextures& t,
+                                  const TexelFootprint& tx, vec3 wo_w, bool front)
+        : mat(m), sf(s), tex(t), texels(tx), per_hit(t.per_hit()), bsdf(&m.bsdf), wo_world(wo_w) {
+        // Shading frame (core/render/surface.h).
+        const auto [g, n] = shading_normals(sf, wo_world, front, mat.bsdf);
+        ng = g;
+        ns = n;
+        frame = Frame(ns);
+        wo = frame.to_local(wo_world);
+    }
+    Vertex(const Vertex&) = delete;
+    // The BSDF with the hit's textures, as core/render/shading.h's hit_bsdf builds it for the AOV pass.
+    [[gnu::always_inline]] const Bsdf& shade() {
+        if (per_hit && !textured) {
+            textured.emplace(mat.bsdf);
+            apply_hit_textures(*textured, tex, tex.base_color ? tex.base_color->lookup(texels) : vec4(0.f));
+            bsdf = &*textured;
+        }
+        return *bsdf;
+    }
+    [[gnu::always_inline]] vec3 origin_toward(vec3 w) {
+        const int side = glm::dot(w, sf.ng) > 0.f ? 0 : 1;
+        if (!have_origin[side]) {
+            origin[side] = offset_ray_origin(sf.p, side == 0 ? sf.ng : -sf.ng, sf.p_error);
+            have_origin[side] = true;
+        }
+        return origin[side];
+    }
+};
+
+// This bounce's dimensions: light selection (+0), light point (+1), lobe (+2), direction (+3), roulette (+4). The
+// draws are taken together so that their independent hash chains overlap; only those the vertex uses (one-lobe BSDFs
+// need no lobe draw, delta ones no light or direction draws), in dimension order.
+struct PathWalker::Draws {
+    uint32_t dim;
+    bool nee;
+    float u_light_select;
+    vec2 u_light;
+    float u_lobe;
+    vec2 u_bsdf;
+};
+
+PV_STAGE PathWalker::Draws PathWalker::draw(const Bsdf& bsdf) {
+    Sampler& sampler = *m_sampler;
+    const bool early = m_early;
+    Draws d;
+    d.dim = early ? m_early_dim : sampler.reserve(kBounceDims);
+    d.nee = m_nee && !is_delta(bsdf);
+    d.u_light_select = d.nee && m_select_draw ? sampler.get1d_at(d.dim) : 0.f;
+    d.u_light = d.nee ? (early ? m_early_u : sampler.get2d_at(d.dim + 1)) : vec2(0.f);
+    const bool one_lobe =
+        std::holds_alternative<Lambertian>(bsdf) || std::holds_alternative<Mirror>(bsdf) || lambert_only(bsdf);
+    d.u_lobe = one_lobe ? 0.5f : sampler.get1d_at(d.dim + 2);
+    d.u_bsdf = is_delta(bsdf) ? vec2(0.5f) : sampler.get2d_at(d.dim + 3);  // delta lobes ignore it
+    return d;
+}
+
+// Light sample and shadow ray, the punctual lights, the BSDF sample, roulette and the next ray.
+PV_STAGE PathWalker::Next PathWalker::scatter() {
+    Vertex v(*m_mat, m_sf, m_tex, m_texels, -m_ray.d, m_front);
+    const Draws d = draw(*v.bsdf);
+    if (m_observer && !is_delta(*v.bsdf)) [[unlikely]]
+        m_observer->vertex(PathVertex{v.sf, v.ng, v.frame, v.wo, v.shade(), m_beta});
+    if (d.nee) next_event(v, d);
+    if (!m_ts->scene().punctual_lights.empty() && m_settings->light_sampling && !is_delta(*v.bsdf)) punctual_lights(v);
+    return continue_path(v, d);
+}
+
+// Next-event estimation: the environment or a triangle (the selection probability is in the pdf), weighted by MIS.
+PV_STAGE void PathWalker::next_event(Vertex& v, const Draws& d) {
+    const TraceableScene& ts = *m_ts;
+    LightSample ls = m_early_ls;
+    if (!(m_early ? m_early_found : ts.sample_light(v.sf.p, v.ns, d.u_light_select, d.u_light, ls)) || is_black(ls.le))
+        return;
+    const vec3 wi = v.frame.to_local(ls.wi);
+    const float cos_gl = glm::dot(ls.wi, v.ng);
+    const bool same_side = (cos_gl > 0.f) == (wi.z > 0.f);
+    // An untextured BSDF is evaluated first (no shadow ray toward a black value), a textured one once the shadow ray
+    // is traced: its traversal hides the load of the prefetched texels. Textures apply to reflection-only lobes, black
+    // below the surface whatever the colour: no shadow ray there either (unless a metallic-roughness material
+    // transmits).
+    vec3 f = same_side && !v.per_hit ? eval(*v.bsdf, v.wo, wi) : vec3(0.f);
+    bool visible = false;
+    if (same_side && (v.per_hit ? reflects(v.wo, wi) || transmits(*v.bsdf) : !is_black(f))) {
+        const Ray shadow = shadow_ray(v.origin_toward(ls.wi), ls);
+        ++m_counters.shadow_rays;
+        visible = !ts.occluded(shadow);
+        if (visible && v.per_hit) f = eval(v.shade(), v.wo, wi);
+    }
+    if (!visible || is_black(f)) return;
+    // The power heuristic's weight over the light pdf, w / p_l = p_l / (p_l^2 + p_b^2): one division
+    // (power_heuristic's guards: an infinite p_l weighs 1 / p_l = 0).
+    const float pl = ls.pdf;
+    float w_over_pdf = 1.f / pl;
+    if (m_mis && !std::isinf(pl)) {
+        const float pb = pdf(*v.bsdf, v.wo, wi);
+        const float denom = pl * pl + pb * pb;
+        w_over_pdf = denom > 0.f && std::isfinite(denom) ? pl / denom : power_heuristic(pl, pb) / pl;
+    }
+    const vec3 added = m_beta * f * (std::fabs(wi.z) * w_over_pdf) * ls.le;
+    m_L += added;
+    if (m_observer) [[unlikely]]
+        m_observer->light(ls, d.u_light_select, d.u_light, added);
+}
+
+// Punctual lights (glTF KHR_lights_punctual): delta lights, reached by next-event estimation alone (no BSDF sample can
+// hit them), every one at every non-delta vertex, without a random draw or MIS.
+PV_STAGE void PathWalker::punctual_lights(Vertex& v) {
+    for (const PunctualLight& light : m_ts->scene().punctual_lights) {
+        LightSample ls;
+        if (!sample_punctual(light, v.sf.p, ls)) continue;
+        const vec3 wi = v.frame.to_local(ls.wi);
+        if ((glm::dot(ls.wi, v.ng) > 0.f) != (wi.z > 0.f)) continue;
+        const vec3 f = eval(v.shade(), v.wo, wi);
+        if (is_black(f)) continue;
+        ++m_counters.shadow_rays;
+        if (m_ts->occluded(shadow_ray(v.origin_toward(ls.wi), ls))) continue;
+        m_L += m_beta * f * std::fabs(wi.z) * ls.le;
+    }
+}
+
+// BSDF sampling for the next direction, the throughput, roulette and the next ray.
+PV_STAGE PathWalker::Next PathWalker::continue_path(Vertex& v, const Draws& d) {
+    auto bs = sample(v.shade(), v.wo, d.u_lobe, d.u_bsdf);
+    if (!bs) return Next::End;
+    vec3 wi_world = v.frame.to_world(bs->wi);
+    float cos_g = glm::dot(wi_world, v.ng);
+    if (((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) && is_delta(*v.bsdf) && v.ns != v.ng) {
+        // A mirror or glass direction about the shading normal that crosses the facet on the wrong side (at a
+        // smooth-shaded silhouette): the surface itself is the facet here, so take this sample about the geometric
+        // normal. Each sample's weight stays the lobe's own (1 reflected, 1/eta^2 refracted), so no energy is lost or
+        // gained, where ending the path darkened the rim (tests/test_glass_furnace.cpp).
+        const Frame geometric(v.ng);
+        bs = detail::sample_other(*v.bsdf, geometric.to_local(v.wo_world), d.u_lobe, d.u_bsdf);  // out of line: rare
+        if (!bs) return Next::End;
+        wi_world = geometric.to_world(bs->wi);
+        cos_g = glm::dot(wi_world, v.ng);
+    }
+    if ((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) return Next::End;  // would leak through
+    m_beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
+    if ((bs->wi.z > 0.f) != (v.wo.z > 0.f)) [[unlikely]] {
+        // A transmission: into or out of an absorbing solid (oriented frame: wo.z > 0 is outside).
+        const auto* mr = std::get_if<MetallicRoughness>(v.bsdf);
+        if (mr && mr->solid()) {
+            m_absorbing = v.wo.z > 0.f && !is_black(mr->sigma);
+            m_sigma = mr->sigma;
+        }
+    }
+    if (!is_finite(m_beta) || is_black(m_beta)) return Next::End;
+    m_specular_bounce = bs->is_delta;
+    m_prev_pdf = bs->pdf;
+    m_prev_p = v.sf.p;
+    m_prev_n = v.ns;              // the normal sample_light was given here
+    m_eta_scale *= sqr(bs->eta);  // 1 except across a refraction
+    if (!roulette(d.dim)) return Next::End;
+    m_ray.o = v.origin_toward(wi_world);
+    m_ray.d = wi_world;
+    m_ray.tmax = std::numeric_limits<float>::infinity();
+    ++m_depth;
+    m_stage = Stage::Trace;
+    return Next::Go;
+}
+
+// Russian roulette (issue 13, measured in docs/convergence.md): a path whose throughput m = max(beta) x eta_scale
+// (pbrt-v4's: the radiance scaling of refraction removed) is at least kRouletteThroughput always continues; below it,
+// it continues with probability m / kRouletteThroughput and survivors are divided by that, so the estimator stays
+// unbiased and a surviving path's throughput is brought back to the threshold. pbrt-v4's rule (threshold 1 from the
+// second vertex) plays roulette at nearly every bounce, since any surface that is not white leaves the throughput
+// below 1; 0.5 measured best in efficiency 1/(relMSE x s) over the Cornell box, the mirror-and-glass box, the sunlit
+// room, Sponza and Sibenik. False: the path ends.
+PV_STAGE bool PathWalker::roulette(uint32_t dim) {
+    if (!m_settings->russian_roulette || m_depth < 1) return true;
+    const float m = max_component(m_beta) * m_eta_scale;
+    if (m >= kRouletteThroughput) return true;
+    const float p = m / kRouletteThroughput;
+    if (m_sampler->get1d_at(dim + 4) >= p) return false;
+    m_beta /= p;
+    return true;
+}
+
+#undef PV_STAGE
 
 vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler,
                 PathCounters& counters) {

@@ -36,8 +36,8 @@ struct PathCounters {
 constexpr uint32_t kCameraDims = 2;
 constexpr uint32_t kBounceDims = 5;
 
-// Russian roulette spares paths whose throughput max(beta) x eta^2 is at least this (the roulette block in
-// trace_path; every path walker that plays roulette, such as the sky guide's training, uses the same rule).
+// Russian roulette spares paths whose throughput max(beta) x eta^2 is at least this (PathWalker::roulette; the sky
+// guide's training walks its paths with a PathWalker).
 constexpr float kRouletteThroughput = 0.5f;
 
 // Starts sample `index` of pixel (x, y) and returns its camera ray: the film point jittered uniformly over the
@@ -50,6 +50,31 @@ inline Ray camera_ray(const Camera& camera, Sampler& sampler, int x, int y, uint
     return camera.generate(film, camera.has_lens() ? sampler.get2d_at(dim + 1) : vec2(0.5f));
 }
 
+// A vertex of a PathWalker's path that takes a light sample (its BSDF is not a delta one), as an observer sees it:
+// the surface point, the geometric and shading frames, the outgoing direction in the shading frame, the BSDF with the
+// hit's textures applied, and the path's throughput up to it.
+struct PathVertex {
+    const SurfacePoint& sf;
+    vec3 ng;  // the geometric normal facing wo (shading_normals)
+    const Frame& frame;
+    vec3 wo;
+    const Bsdf& bsdf;
+    vec3 beta;
+};
+
+// Watches a PathWalker's path without changing it (the sky guide's training, core/render/sky_guide_training.h, walks
+// its paths with one): vertex() at each vertex that takes a light sample, before it does; light() for each light
+// sample of next-event estimation found unoccluded, with its draws and the radiance it adds to the path (before MIS
+// weights: the walker's settings decide them).
+class PathObserver {
+public:
+    virtual void vertex(const PathVertex& v) = 0;
+    virtual void light(const LightSample& ls, float u_select, vec2 u_light, vec3 added) = 0;
+
+protected:
+    ~PathObserver() = default;
+};
+
 // One path, advanced a stage at a time (pbrt-v4's PathIntegrator::Li cut at its two waits for memory). step() runs
 // until the path must wait for data it has just prefetched, the hit triangle's record after a closest hit and the
 // texels under a textured hit, and returns; the caller can then advance other paths while the loads arrive
@@ -61,6 +86,8 @@ public:
     // Starts the path of camera ray `ray`; `sampler` has been started for its pixel and sample, and belongs to this
     // path until it ends. The scene, settings and sampler must outlive the path.
     void start(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler);
+    // Reports the path started last to `observer` (nullptr: none; start() clears it), which must outlive the path.
+    void observe(PathObserver* observer) { m_observer = observer; }
     // Advances the path; false once it has ended (radiance() and counters() are then its results).
     bool step() { return (this->*m_step)(); }
     vec3 radiance() const { return m_L; }
@@ -68,8 +95,24 @@ public:
 
 private:
     enum class Stage : uint8_t { Trace, Surface, Scatter };
+    enum class Next : uint8_t { Go, Wait, End };  // a stage's outcome: on to the next, wait for a prefetch, path ended
+    struct Vertex;                                // the vertex being scattered (integrator.cpp)
+    struct Draws;                                 // its sampler draws
     template <bool kPacked>
     bool step_with();
+    // The stages and the parts of Scatter, each a function (integrator.cpp; inlined into step_with).
+    template <bool kPacked>
+    Next trace();
+    void escape();
+    template <bool kPacked>
+    Next surface();
+    void emission_found();
+    Next scatter();
+    Draws draw(const Bsdf& bsdf);
+    void next_event(Vertex& v, const Draws& d);
+    void punctual_lights(Vertex& v);
+    Next continue_path(Vertex& v, const Draws& d);
+    bool roulette(uint32_t dim);
     bool finish() {
         m_counters.paths = 1;
         return false;
@@ -77,6 +120,7 @@ private:
     const TraceableScene* m_ts = nullptr;
     const RenderSettings* m_settings = nullptr;
     Sampler* m_sampler = nullptr;
+    PathObserver* m_observer = nullptr;
     bool (PathWalker::*m_step)() = nullptr;
     Stage m_stage = Stage::Trace;
     bool m_nee = false, m_mis = false, m_select_draw = false, m_early_sky = false;

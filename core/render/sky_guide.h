@@ -1,11 +1,12 @@
 // core/render/sky_guide.h: a learned sky distribution for next-event estimation (issue #13, interiors lit through
 // openings; docs/sky-guide.md). In a room lit through a window, most sky directions that the sky's own sampling
 // picks end on a wall; the directions visible through the opening are a small part of the sphere. A short training
-// pre-pass (train_sky_guide) traces camera paths, sends shadow rays toward sky directions drawn from the sky's own
-// distribution at their vertices, and accumulates, per direction bin, the sky light that actually arrives
-// (luminance of beta f |cos| Le V / pdf). The normalised histogram is a piecewise-constant density over the sphere;
-// TraceableScene mixes it into the sky's share of environment sampling (see traceable_scene.h), keeping the sky's
-// own sampling in the mixture so the estimator stays unbiased whatever the guide learned.
+// pre-pass (train_sky_guide, core/render/sky_guide_training.h) traces camera paths, sends shadow rays toward sky
+// directions drawn from the sky's own distribution at their vertices, and accumulates, per direction bin, the sky light
+// that actually arrives (luminance of beta f |cos| Le V / pdf). The normalised histogram is a piecewise-constant
+// density over the sphere; TraceableScene mixes it into the sky's share of environment sampling (see
+// traceable_scene.h), keeping the sky's own sampling in the mixture so the estimator stays unbiased whatever the guide
+// learned.
 //
 // Bins: kBands bands equal in y = cos(theta) (world +y up) times kColumns columns equal in phi = atan2(-z, x), so
 // every bin has the same solid angle 4 pi / kBins and pdf(dir) = P(bin(dir)) kBins / (4 pi). bin() is the one
@@ -20,10 +21,6 @@
 #include "core/sampling/distribution.h"
 
 namespace pv {
-
-class Camera;
-class TraceableScene;
-struct RenderSettings;
 
 // A grid of res.x x res.y x res.z cells over the box [lo, hi]; points outside belong to the nearest cell.
 struct SkyGuideGrid {
@@ -88,41 +85,7 @@ private:
     std::vector<float> m_pmf;  // P(bin), cell by cell (not used when sampling)
 };
 
-// Cells of the training pre-pass's grids over the film (two paths each): a pilot of one path per pixel (between
-// kSkyGuidePilotCells and kSkyGuideMaxPilotCells cells: the viewer's coarse passes after every camera move pay it)
-// decides, then where the guide is used more paths make kSkyGuideTrainingCells in all.
-constexpr int kSkyGuideTrainingCells = 128 * 128;
-constexpr int kSkyGuidePilotCells = 2048;
-constexpr int kSkyGuideMaxPilotCells = 8192;
-// Spatial cells of the guide (about; cubic over the scene's bounds, 1 to 16 per axis).
-constexpr int kSkyGuideCells = 64;
-
-// True when the guide would change anything: the switch is on, next-event estimation is on, the sky shines and the
-// scene declares no portals (portals already aim the sky's samples at the openings).
-bool sky_guide_applies(const TraceableScene& ts, const RenderSettings& settings);
-
-// The training pre-pass and what it measured for `--sky-guide auto` (docs/sky-guide.md): the guide would cut the
-// variance of the pixel estimate by `variance_ratio` = 1 - saved / noise, where noise is the variance of the
-// training paths' NEE-only estimates (from the two paths of each training cell) and saved the second moment the
-// guide's mixture would take out of their sky samples (importance reweighting, each path's samples judged by the
-// guide trained on the other paths). Auto uses the guide where variance_ratio x kSkyGuideRelativeCost < 1.
-struct SkyGuideTraining {
-    std::shared_ptr<const SkyGuide> guide;  // nullptr: learned nothing
-    bool use = false;                       // auto's decision
-    double variance_ratio = 1.0;
-    double sky_share = 0.0;  // of the NEE-only estimate, from the sky
-    double sun_share = 0.0;  // of the environment's part of it, from the sun
-};
-// Time per sample with the guide over without (measured 1.14-1.30 on the five scenes of docs/sky-guide.md).
-constexpr double kSkyGuideRelativeCost = 1.25;
-
-SkyGuideTraining train_sky_guide_judged(const TraceableScene& ts, const RenderSettings& settings, const Camera& camera);
-
-// The training pre-pass: camera paths through `camera` (the render's; its film is sampled on a coarse grid in the
-// same aspect) with a seed of its own derived from settings.seed. Deterministic for any thread count (fixed chunks,
-// one histogram each, summed in chunk order). Runs on the calling thread's TBB arena. Nothing (nullptr) when the
-// guide does not apply or learned nothing.
-std::shared_ptr<const SkyGuide> train_sky_guide(const TraceableScene& ts, const RenderSettings& settings,
-                                                const Camera& camera);
+// The training pre-pass (train_sky_guide), what it measures for `--sky-guide auto` and the guide's lifecycle in a
+// render: core/render/sky_guide_training.h. This file is what the scene reads (TraceableScene mixes the guide in).
 
 }  // namespace pv

@@ -13,16 +13,11 @@
 #include "core/base/math.h"
 #include "core/sampling/warp.h"
 #include "core/scene/bsdf_pbr.h"
+#include "core/scene/microfacet.h"
 
 namespace pv {
 
-struct BsdfSample {
-    vec3 f{0.f};
-    vec3 wi{0.f};
-    float pdf = 0.f;
-    bool is_delta = false;
-    float eta = 1.f;  // relative IOR crossed (1 unless refracted); for Russian roulette's eta scale
-};
+// BsdfSample: core/scene/microfacet.h.
 
 // Ideal diffuse reflection f = albedo/pi, cosine-weighted sampling.
 struct Lambertian {
@@ -85,10 +80,7 @@ inline bool transmits(const Bsdf& bsdf) {
     const auto* m = std::get_if<MetallicRoughness>(&bsdf);
     return m && m->has(MetallicRoughness::kTransmission) && m->alpha > 0.f;
 }
-// Whether wo and wi are strictly on the same side, where alone the reflection-only lobes (Lambertian, Glossy: the
-// ones a base-colour texture applies to, with transmits() false) can be nonzero: where it is false their eval() is zero
-// whatever the colour, so a caller can skip a direction before looking the colour up.
-inline bool reflects(vec3 wo, vec3 wi) { return wo.z > 0.f ? wi.z > 0.f : (wo.z < 0.f && wi.z < 0.f); }
+// reflects(wo, wi): core/scene/microfacet.h.
 const char* bsdf_type_name(const Bsdf& bsdf);
 // Sets the diffuse colour (Lambertian albedo, Glossy diffuse clamped so diffuse + specular <= 1, MetallicRoughness
 // base colour clamped to [0, 1]); others unchanged.
@@ -97,16 +89,10 @@ void set_base_color(Bsdf& bsdf, vec3 color);
 // within set_base_color's bounds.
 void multiply_base_color(Bsdf& bsdf, vec3 c);
 
-// GGX (Trowbridge-Reitz) helpers, isotropic; exposed for tests.
-float ggx_d(vec3 h, float alpha);
-float ggx_g1(vec3 w, float alpha);
-vec3 ggx_sample_visible_normal(vec3 wo, float alpha, vec2 u);
-// Unpolarised Fresnel reflectance of a dielectric interface; cos_i signed (< 0: from inside), eta = n_in/n_out.
-float fresnel_dielectric(float cos_i, float eta);
+// GGX (ggx_d, ggx_g1, ggx_sample_visible_normal) and fresnel_dielectric: core/scene/microfacet.h.
 // Blinn-Phong exponent Ns -> GGX alpha: alpha = sqrt(2 / (Ns + 2)) (Walter et al. 2007, eq. 34's Beckmann
 // correspondence, applied to GGX), clamped to [kMinAlpha, 1].
 float alpha_from_ns(float ns);
-constexpr float kMinAlpha = 1e-3f;
 
 // KHR_texture_transform on one texture reference: uv' = col0 * uv.x + col1 * uv.y + offset (the extension's offset,
 // rotation and scale composed), read from texture-coordinate set `set` (0: TEXCOORD_0 / OBJ vt, 1: TEXCOORD_1).
@@ -156,30 +142,17 @@ std::optional<BsdfSample> sample_other(const Bsdf& bsdf, vec3 wo, float u_lobe, 
 }  // namespace detail
 
 inline vec3 eval(const Bsdf& bsdf, vec3 wo, vec3 wi) {
-    if (const auto* l = std::get_if<Lambertian>(&bsdf)) {
-        // Two-sided: nonzero where wo and wi are strictly on the same side.
-        return reflects(wo, wi) ? l->albedo * kInvPi : vec3(0.f);
-    }
+    if (const auto* l = std::get_if<Lambertian>(&bsdf)) return lambert_eval(l->albedo, wo, wi);
     return detail::eval_other(bsdf, wo, wi);
 }
 
 inline float pdf(const Bsdf& bsdf, vec3 wo, vec3 wi) {
-    if (std::holds_alternative<Lambertian>(bsdf)) {
-        if (wo.z > 0.f) return cosine_hemisphere_pdf(wi.z);
-        return wo.z < 0.f ? cosine_hemisphere_pdf(-wi.z) : 0.f;
-    }
+    if (std::holds_alternative<Lambertian>(bsdf)) return lambert_pdf(wo, wi);
     return detail::pdf_other(bsdf, wo, wi);
 }
 
 inline std::optional<BsdfSample> sample(const Bsdf& bsdf, vec3 wo, float u_lobe, vec2 u) {
-    if (const auto* l = std::get_if<Lambertian>(&bsdf)) {
-        if (wo.z == 0.f) return std::nullopt;
-        vec3 wi = square_to_cosine_hemisphere(u);
-        if (!(wi.z > 0.f)) return std::nullopt;  // wi.z == 0 at the disk's rim: a grazing, useless direction
-        const float p = wi.z * kInvPi;           // cosine_hemisphere_pdf(wi.z)
-        if (wo.z < 0.f) wi.z = -wi.z;
-        return BsdfSample{l->albedo * kInvPi, wi, p, false};
-    }
+    if (const auto* l = std::get_if<Lambertian>(&bsdf)) return lambert_sample(l->albedo, wo, u);
     return detail::sample_other(bsdf, wo, u_lobe, u);
 }
 

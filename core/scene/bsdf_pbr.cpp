@@ -4,7 +4,7 @@
 #include <cfloat>
 
 #include "core/sampling/warp.h"
-#include "core/scene/bsdf.h"
+#include "core/scene/microfacet.h"
 
 namespace pv {
 namespace {
@@ -195,19 +195,19 @@ MetallicRoughness make_metallic_roughness(MetallicRoughness m) {
 namespace detail {
 
 vec3 eval_mr(const MetallicRoughness& b, vec3 wo, vec3 wi) {
-    if (b.lambert_only) return eval(Lambertian{b.base_color}, wo, wi);
+    if (b.lambert_only) return lambert_eval(b.base_color, wo, wi);
     return eval_side(b, side_of(b, wo, wi), nullptr);
 }
 
 float pdf_mr(const MetallicRoughness& b, vec3 wo, vec3 wi) {
-    if (b.lambert_only) return pdf(Lambertian{b.base_color}, wo, wi);
+    if (b.lambert_only) return lambert_pdf(wo, wi);
     float pdf = 0.f;
     eval_side(b, side_of(b, wo, wi), &pdf);
     return pdf;
 }
 
 std::optional<BsdfSample> sample_mr(const MetallicRoughness& b, vec3 wo_in, float u_lobe, vec2 u) {
-    if (b.lambert_only) return sample(Lambertian{b.base_color}, wo_in, u_lobe, u);
+    if (b.lambert_only) return lambert_sample(b.base_color, wo_in, u);
     if (!(std::fabs(wo_in.z) >= FLT_MIN)) return std::nullopt;  // zero or denormal: a delta f = 1/|cos| overflows
     const Side s = side_of(b, wo_in, vec3(0.f));
     const vec3 wo = s.wo;

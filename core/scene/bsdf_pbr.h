@@ -18,7 +18,7 @@
 // Solid transmission (thin_walled false) is oriented like Dielectric: wo.z < 0 is inside, where the relative IOR is
 // 1 / ior; refracted radiance is scaled by 1/eta^2 as Dielectric's is. Other configurations are two-sided.
 // Beer-Lambert attenuation (attenuation_color/distance, KHR_materials_volume) is applied by the path tracer to the
-// segments a path travels inside a solid one, entered and left by refraction (not by the sky guide's training paths).
+// segments a path travels inside a solid one, entered and left by refraction.
 #pragma once
 
 #include <cmath>
