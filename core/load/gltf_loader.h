@@ -6,8 +6,8 @@
 
 #include "core/scene/scene.h"
 
-// The checks tinygltf lacks: every accessor, buffer view and index is bounds-checked before a byte is read, images are decoded
-// by Texture::decode (the guarded stb/OpenEXR path and its memory budget), external files are regular files of
+// The checks tinygltf lacks: every accessor, buffer view and index is bounds-checked before a byte is read, images are
+// decoded by Texture::decode (the guarded stb/OpenEXR path and its memory budget), external files are regular files of
 // bounded size, and the node hierarchy may not contain a cycle. Errors (pv::Error, one line) name the file and the
 // JSON pointer of what is wrong: "scene.gltf: /accessors/3: reads bytes 0..96 of bufferView 1, which has 64".
 //
