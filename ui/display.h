@@ -39,8 +39,9 @@ void display_shader_sources(std::string& vert, std::string& frag);
 extern const char* const kEmbeddedDisplayVert;
 extern const char* const kEmbeddedDisplayFrag;
 
-// On a software rasteriser drawing only on change keeps frames that only redraw the panel cheap, and a
-// 1/4-resolution preview costs 1/16 of the shading. Needs a current OpenGL 3.3 core context for its whole life.
+// Shading only on change, then blitting: on a software rasteriser this keeps frames that only redraw the panel
+// cheap, and a 1/4-resolution preview costs 1/16 of the shading. Needs a current OpenGL 3.3 core context for its whole
+// life.
 class DisplayPass {
 public:
     // Compiles and links the display program; throws pv::Error with the GLSL log on failure.

@@ -13,13 +13,12 @@ constexpr size_t kHugePageBytes = size_t(2) << 20;
 // itself, and so little data rarely costs page walks (the Cornell box).
 constexpr size_t kHugePageMinBytes = size_t(1) << 20;
 
-// Transparent huge pages are "madvise" by default on Debian, so a region is 2 MiB aligned, a whole number of 2 MiB
-// pages long, and advised MADV_HUGEPAGE. The kernel may still back it with 4 KiB pages (THP "never", no free huge
-// page): the data and results are the same.
 // A region of at least `bytes` bytes, 64-byte aligned; from kHugePageMinBytes up, 2 MiB aligned,
 // rounded up to a whole number of 2 MiB pages (less than 2 MiB more; the tail is not touched) and advised for huge
 // pages (Linux; ignored where the kernel refuses). Its first `bytes` bytes are zero. Freed when the last copy of the
-// pointer goes. Throws std::bad_alloc when out of memory.
+// pointer goes. Throws std::bad_alloc when out of memory. Transparent huge pages are "madvise" by default on Debian,
+// hence the alignment and MADV_HUGEPAGE. The kernel may still back the region with 4 KiB pages (THP "never", no free
+// huge page): the data and results are the same.
 std::shared_ptr<std::byte> allocate_region(size_t bytes);
 
 // The size allocate_region(bytes) reserves: bytes rounded up to 64, or to 2 MiB from kHugePageMinBytes up.

@@ -15,12 +15,11 @@ namespace pv {
 
 using Metadata = std::map<std::string, std::string>;
 
-// Reading untrusted images is bounded by this memory budget: the declared size is read first (the EXR header,
-// stbi_info) and an image larger than the budget, or declaring far more pixels than its file could hold, is refused
-// before its pixels are allocated.
 // The memory budget for one image read from a file (environment map or texture). The default, 135 megapixels,
 // admits a 16384x8192 environment map (2^27 pixels: 2 GiB as a Texture's 16-byte texels); `pathview
-// --max-image-megapixels` changes it. Process-wide, set once at start-up.
+// --max-image-megapixels` changes it. Process-wide, set once at start-up. Reading untrusted images is bounded by it:
+// the declared size is read first (the EXR header, stbi_info) and an image larger than the budget, or declaring far
+// more pixels than its file could hold, is refused before its pixels are allocated.
 struct ImageLimits {
     uint64_t max_pixels = 135'000'000;
 };
