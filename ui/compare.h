@@ -1,8 +1,7 @@
 // ui/compare.h: before/after comparison. The image shown (A, live) is compared with a held image B: one taken from
 // the screen (key B, "Hold B") or read from an EXR (the panel's path field, `pathview view --compare FILE.exr`).
 // Views: A alone, A | B split by a vertical divider (right drag moves it), B alone (V flips), and the relative
-// difference |A - B| / (B + eps) in false colour. Against B the panel shows the live relMSE of A (core/image/metrics.h)
-// and its history. Window-free: the viewer feeds it snapshots and uploads what it computes (ui/display.h).
+// difference |A - B| / (B + eps) in false colour. Window-free: the viewer feeds it snapshots.
 #pragma once
 
 #include <optional>
@@ -28,6 +27,8 @@ struct CompareActions {
     bool clear = false;               // forget B
 };
 
+// Against B the panel shows the live relMSE of A (core/image/metrics.h) and its history. The viewer uploads what
+// Compare computes (ui/display.h).
 class Compare {
 public:
     // eps of the difference view, as core/image/metrics.h's relMSE and MAPE.

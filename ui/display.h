@@ -1,9 +1,7 @@
 // ui/display.h: the display pass. The latest Snapshot lives in float textures (uploaded with glTexSubImage2D) and
 // a fullscreen triangle runs shaders/display.frag (exposure, tone map and sRGB output, or a false-colour view)
 // into an 8-bit texture of the snapshot's size, only when the snapshot or the display parameters change; every
-// frame then scales that texture into the image region with a linear blit. On a software rasteriser this keeps
-// frames that only redraw the panel cheap, and a 1/4-resolution preview costs 1/16 of the shading.
-// Needs a current OpenGL 3.3 core context for its whole life.
+// frame then scales that texture into the image region with a linear blit.
 #pragma once
 
 #include <string>
@@ -41,6 +39,9 @@ void display_shader_sources(std::string& vert, std::string& frag);
 extern const char* const kEmbeddedDisplayVert;
 extern const char* const kEmbeddedDisplayFrag;
 
+// Shading only on change, then blitting: on a software rasteriser this keeps frames that only redraw the panel
+// cheap, and a 1/4-resolution preview costs 1/16 of the shading. Needs a current OpenGL 3.3 core context for its whole
+// life.
 class DisplayPass {
 public:
     // Compiles and links the display program; throws pv::Error with the GLSL log on failure.

@@ -1,12 +1,6 @@
 // ui/navigation.h: the viewer's gestures and shortcuts mapped to the camera and to panel actions. Window-free: it
 // reads an InputQueue (filled by the GLFW callbacks) and what ImGui wants this frame, picks through a callback, and
 // edits a CameraController, so the whole mapping is unit-tested without a display (tests/gui/test_ui_logic.cpp).
-//   left drag: orbit; middle drag or shift+left drag: pan; ctrl+left drag: a render region (X clears it); wheel: dolly;
-//   a press that moves less than kClickSlopPx is a click: select the material under it, or (after "pick focus") set the
-//   focus plane there; a double click re-targets the orbit; W A S D Q E fly; F frame all; R reset; P pause; G focus
-//   under the cursor; Ctrl+S snapshot; Ctrl+Q quit. Comparison (compare.h): B holds the image as B, C cycles the
-//   compare views, V flips between A and B, right drag moves the split view's divider. N: the raw accumulation or
-//   the denoised image (state.display.denoise).
 #pragma once
 
 #include <functional>
@@ -16,6 +10,14 @@
 #include "input.h"
 #include "panel.h"
 #include "view_log.h"
+
+// The gestures and shortcuts:
+//   left drag: orbit; middle drag or shift+left drag: pan; ctrl+left drag: a render region (X clears it); wheel: dolly;
+//   a press that moves less than kClickSlopPx is a click: select the material under it, or (after "pick focus") set the
+//   focus plane there; a double click re-targets the orbit; W A S D Q E fly; F frame all; R reset; P pause; G focus
+//   under the cursor; Ctrl+S snapshot; Ctrl+Q quit. Comparison (compare.h): B holds the image as B, C cycles the
+//   compare views, V flips between A and B, right drag moves the split view's divider. N: the raw accumulation or
+//   the denoised image (state.display.denoise).
 
 namespace pv::ui {
 

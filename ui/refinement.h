@@ -1,11 +1,7 @@
-// ui/refinement.h: the viewer's refinement schedule. Any change restarts the accumulation at a coarse resolution
-// (1/8, 1/4 or 1/2 of the image region's, the finest whose first frame the last measured pass time predicts within
-// about one display refresh; 1/4 before any measurement), so the picture follows the mouse; at rest (no change for
-// kRestSeconds, and the pass on screen belongs to the latest request) it is refined to 1/2, then full resolution. While
-// the camera moves, a new coarse request is deferred until the coarse pass in flight has landed (at most
-// kMaxDeferSeconds), so a pass that takes longer than a UI frame is never cancelled for the next mouse position and the
-// picture keeps moving. It also keeps the requests waiting for their first frame on screen, for the input-to-frame
-// latency in the log. Window-free; the viewer feeds it times (seconds) and the generation of the snapshot on screen.
+// ui/refinement.h: the viewer's refinement schedule: after any change the accumulation restarts at a coarse
+// resolution, so the picture follows the mouse, and is refined at rest. It also keeps the requests waiting for their
+// first frame on screen, for the input-to-frame latency in the log. Window-free; the viewer feeds it times (seconds)
+// and the generation of the snapshot on screen.
 #pragma once
 
 #include <cstdint>
@@ -16,6 +12,12 @@
 
 namespace pv::ui {
 
+// Any change restarts the accumulation at a coarse resolution (1/8, 1/4 or 1/2 of the image region's, the finest
+// whose first frame the last measured pass time predicts within about one display refresh; 1/4 before any
+// measurement), so the picture follows the mouse; at rest (no change for kRestSeconds, and the pass on screen belongs
+// to the latest request) it is refined to 1/2, then full resolution. While the camera moves, a new coarse request is
+// deferred until the coarse pass in flight has landed (at most kMaxDeferSeconds), so a pass that takes longer than a
+// UI frame is never cancelled for the next mouse position and the picture keeps moving.
 class RefinementSchedule {
 public:
     static constexpr int kCoarsestLevel = 4;         // resolution divisor right after a change, until measured

@@ -1,8 +1,4 @@
 // app/bench/scene_gen.h: scenes generated at run time, by keyword, for benchmarks (a large mesh is not shipped).
-//   "large-mesh": the built-in Cornell box with a displaced sphere of 1,046,528 triangles (1024 x 512 grid) on a
-//                 white diffuse material, standing in for the box's contents.
-//   "many-lights": assets/many-lights (scripts/make_many_lights.py): a room of 320 small lamps of radiances over
-//                 five decades, for the light tree (--light-sampler tree).
 #pragma once
 
 #include <optional>
@@ -12,6 +8,11 @@
 
 namespace pv {
 
+// The keywords:
+//   "large-mesh": the built-in Cornell box with a displaced sphere of 1,046,528 triangles (1024 x 512 grid) on a
+//                 white diffuse material, standing in for the box's contents.
+//   "many-lights": assets/many-lights (scripts/make_many_lights.py): a room of 320 small lamps of radiances over
+//                 five decades, for the light tree (--light-sampler tree).
 // The scene named `keyword`, or nothing when it is not a generator keyword. Throws pv::Error if the built-in
 // Cornell box it builds on cannot be loaded.
 std::optional<Scene> generated_scene(const std::string& keyword);

@@ -1,8 +1,6 @@
 // core/base/huge_pages.h: memory for data the path tracer reads at random (texels, packed hit records) on 2 MiB pages
 // where Linux grants them. A hit touches a texel block and a record scattered over megabytes: on 4 KiB pages most
-// such reads miss the DTLB and wait for a page walk (docs/ray-speed.md). Transparent huge pages are "madvise" by
-// default on Debian, so a region is 2 MiB aligned, a whole number of 2 MiB pages long, and advised MADV_HUGEPAGE.
-// The kernel may still back it with 4 KiB pages (THP "never", no free huge page): the data and results are the same.
+// such reads miss the DTLB and wait for a page walk (docs/ray-speed.md).
 #pragma once
 
 #include <cstddef>
@@ -18,7 +16,9 @@ constexpr size_t kHugePageMinBytes = size_t(1) << 20;
 // A region of at least `bytes` bytes, 64-byte aligned; from kHugePageMinBytes up, 2 MiB aligned,
 // rounded up to a whole number of 2 MiB pages (less than 2 MiB more; the tail is not touched) and advised for huge
 // pages (Linux; ignored where the kernel refuses). Its first `bytes` bytes are zero. Freed when the last copy of the
-// pointer goes. Throws std::bad_alloc when out of memory.
+// pointer goes. Throws std::bad_alloc when out of memory. Transparent huge pages are "madvise" by default on Debian,
+// hence the alignment and MADV_HUGEPAGE. The kernel may still back the region with 4 KiB pages (THP "never", no free
+// huge page): the data and results are the same.
 std::shared_ptr<std::byte> allocate_region(size_t bytes);
 
 // The size allocate_region(bytes) reserves: bytes rounded up to 64, or to 2 MiB from kHugePageMinBytes up.

@@ -1,5 +1,12 @@
-// core/frame/adaptive.h: where and how long to sample.
-//
+// core/frame/adaptive.h: where and how long to sample: a noise threshold that stops pixels whose estimated error is
+// low, and an unbiased allocation of samples in proportion to each pixel's relative error per sample (both below).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/image/film.h"
+
 // Noise threshold (AdaptiveSettings::noise_threshold): after a pass, each pixel's relative error is estimated from
 // the film's two half buffers (pixel_rel_mse: relative to mean^2 + 0.01, as the metrics); its per-sample relative
 // variance (that times the pixel's count) is averaged over a (2r+1)^2 neighbourhood, because one pixel's estimate
@@ -8,7 +15,7 @@
 // 3 x 2^(k-1): a geometric schedule, so a pixel is looked at O(log n) times (each look is a chance to stop on an
 // estimate that happens to be low: stopping on the samples themselves biases the image, docs/convergence.md).
 //
-// Allocation (AdaptiveSettings::allocate, the command line's default) is unbiased at any sample count (issue 29):
+// Allocation (AdaptiveSettings::allocate, the command line's default) is unbiased at any sample count:
 // the allocation never depends on the samples it steers. Passes 1..kPilotPasses and every kPilotEvery-th pass
 // after are pilot passes: every pixel takes a sample, rendered with its own seed
 // (pilot_seed: a scramble independent of the main samples'), into a separate pilot film. The weights come from the
@@ -24,12 +31,6 @@
 // --adaptive off. A pixel's main samples take the indices 0, 1, 2... of its own count, so they are the ones a uniform
 // render of that many passes gives it (Sobol's stratification holds per pixel); pilot samples likewise under the pilot
 // seed. Everything depends only on the films and the counts, so images stay identical for any thread count.
-#pragma once
-
-#include <cstdint>
-#include <vector>
-
-#include "core/image/film.h"
 
 namespace pv {
 

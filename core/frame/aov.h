@@ -2,7 +2,17 @@
 // shading normal, depth) from a separate feature pass, so trace_path and the render loop without AOVs are
 // untouched, and the film's per-pixel statistics (sample count, variance of the mean, the even/odd half means);
 // plus a multi-layer EXR writer for them.
-//
+#pragma once
+
+#include <atomic>
+#include <string>
+#include <vector>
+
+#include "core/image/film.h"
+#include "core/image/image_io.h"
+#include "core/render/integrator.h"
+#include "core/scene/camera.h"
+
 // Channel names (pbrt-v4's GBufferFilm where it has one, OpenEXR's "Z" for depth):
 //   R G B                        the image (the denoised one with --denoise)
 //   Albedo.R Albedo.G Albedo.B   base colour at the first rough hit, tinted by the specular chain before it
@@ -16,16 +26,6 @@
 // expect (glass picks reflection or refraction by its Fresnel weight per feature sample); an emitter ends the
 // chain like a rough surface, with its emission clamped to 1 as albedo. Rays that leave the scene give albedo 0, normal
 // 0 and Z 0.
-#pragma once
-
-#include <atomic>
-#include <string>
-#include <vector>
-
-#include "core/image/film.h"
-#include "core/image/image_io.h"
-#include "core/render/integrator.h"
-#include "core/scene/camera.h"
 
 namespace pv {
 

@@ -1,24 +1,26 @@
 // core/frame/denoise_atrous.h: the interactive denoiser: an edge-avoiding a-trous wavelet filter (Dammertz et al. 2010)
-// with SVGF's weights (Schied et al. 2017): four passes of a 3x3 B-spline kernel (1/4, 1/2, 1/4) at strides 1, 2,
-// 4, 8 (a 31x31 footprint), stopped at normal and depth edges and, on the colour, at differences larger than a
-// few standard deviations of the per-pixel noise (the variance of the mean, filtered along). The colour is divided by
-// the albedo before filtering and multiplied back after, so textures and colour edges stay sharp. Linear RGB in
-// and out; no state between calls but reused memory (the accumulation is never touched).
-//
-// Built for speed on one core: the features are laid out once per camera as planes (one float array per
-// channel; AtrousDenoiser::set_features), with each pixel's normalisers (1 / depth scale, 1 / colour sigma)
-// precomputed; away from the border all eight taps of a pixel run in one branch-free loop body that the compiler
-// vectorises (near the border, tap by tap over row segments, the same arithmetic); the
-// edge-stopping exp(-e) is replaced by max(0, 1 - e/16)^16 (four squarings; within 0.018 of exp(-e) everywhere, 0
-// beyond e = 16). About 9 x 4 taps per pixel. (Before: five passes of 5x5 taps with exp, albedo stopping and scalar
-// loops, 12-14x slower; the 16-spp error at 512x512 Cornell went from 3.6e-4 to 5.9e-4, against 3.7e-3 for the noisy
-// 32-spp image: docs/denoise.md.)
+// with SVGF's weights (Schied et al. 2017). Linear RGB in and out; no state between calls but reused memory (the
+// accumulation is never touched). The filter and how it is made fast: below the includes.
 #pragma once
 
 #include <vector>
 
 #include "core/frame/aov.h"
 #include "core/image/film.h"
+
+// The filter: four passes of a 3x3 B-spline kernel (1/4, 1/2, 1/4) at strides 1, 2, 4, 8 (a 31x31 footprint),
+// stopped at normal and depth edges and, on the colour, at differences larger than a few standard deviations of the
+// per-pixel noise (the variance of the mean, filtered along). The colour is divided by the albedo before filtering and
+// multiplied back after, so textures and colour edges stay sharp.
+//
+// Built for speed on one core: the features are laid out once per camera as planes (one float array per
+// channel; AtrousDenoiser::set_features), with each pixel's normalisers (1 / depth scale, 1 / colour sigma)
+// precomputed; away from the border all eight taps of a pixel run in one branch-free loop body that the compiler
+// vectorises (near the border, tap by tap over row segments, the same arithmetic); the
+// edge-stopping exp(-e) is replaced by max(0, 1 - e/16)^16 (four squarings; within 0.018 of exp(-e) everywhere, 0
+// beyond e = 16). About 9 x 4 taps per pixel. (Against five passes of 5x5 taps with exp, albedo stopping and scalar
+// loops: 12-14x faster, for a 16-spp error at 512x512 Cornell of 5.9e-4 instead of 3.6e-4, against 3.7e-3 for the
+// noisy 32-spp image: docs/denoise.md.)
 
 namespace pv {
 

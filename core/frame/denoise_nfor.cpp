@@ -111,9 +111,9 @@ std::vector<float> variance_floor(int w, int h, const std::vector<vec3>& var) {
 // What a pixel's colour weights compare its neighbours with. Cross-filtered (weights from half B for filtering
 // half A) with B's own colour at the centre, the filtered pixel still depends on B's noise at that pixel, and scored
 // against B there it looks better than it is (E|fA - B|^2 = MSE(fA) + Var(B) - 2 Cov(fA, B)), most for the
-// narrowest bandwidth: it was chosen at 82% of the sunlit room's pixels at 16 spp although the a-trous candidate
-// had 3x less error. So the centre's guide colour, its noise variance and its variance scale come from its eight
-// neighbours only (the mean of their colours, the variance of that mean, the median of their variances), and the
+// narrowest bandwidth: scored so, it is chosen at 82% of the sunlit room's pixels at 16 spp although the a-trous
+// candidate has 3x less error. So the centre's guide colour, its noise variance and its variance scale come from its
+// eight neighbours only (the mean of their colours, the variance of that mean, the median of their variances), and the
 // centre pixel's own weight from the features only: the filtered pixel is then independent of the guide's noise at
 // that pixel (up to the pooled variances of its neighbours, which carry both halves' samples), so that
 // E|fA - B|^2 - Var(B) = MSE(fA), and the same filter is the output (it is no worse than the guide's own centre).

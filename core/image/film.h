@@ -2,7 +2,6 @@
 // 2^24 ulps: TEST-CATALOG 4.6). Each pixel keeps the sum, the sum of squares (per channel) and the sum of its
 // even-indexed samples, so a reference-free error estimate can compare the even and odd half-buffers (which
 // must be independent estimators: both samplers guarantee it, core/sampling/sampler.h).
-// A non-finite or negative sample is dropped and counted, never accumulated.
 #pragma once
 
 #include <atomic>

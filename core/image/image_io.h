@@ -1,9 +1,6 @@
 // core/image/image_io.h: writing and reading images. EXR is linear FLOAT RGB with string metadata; PNG is tone-mapped
 // (exposure, clamp, sRGB) 8-bit. Writes go through write_file_atomically (core/base/file_io.h): every write checked,
 // then rename(), so a crash or a full disk never leaves half a file. Failures throw pv::Error naming the file.
-// Reading untrusted images is bounded by the memory budget below: the declared size is read first (the EXR
-// header, stbi_info) and an image larger than the budget, or declaring far more pixels than its file could hold,
-// is refused before its pixels are allocated.
 #pragma once
 
 #include <cstdint>
@@ -20,7 +17,9 @@ using Metadata = std::map<std::string, std::string>;
 
 // The memory budget for one image read from a file (environment map or texture). The default, 135 megapixels,
 // admits a 16384x8192 environment map (2^27 pixels: 2 GiB as a Texture's 16-byte texels); `pathview
-// --max-image-megapixels` changes it. Process-wide, set once at start-up.
+// --max-image-megapixels` changes it. Process-wide, set once at start-up. Reading untrusted images is bounded by it:
+// the declared size is read first (the EXR header, stbi_info) and an image larger than the budget, or declaring far
+// more pixels than its file could hold, is refused before its pixels are allocated.
 struct ImageLimits {
     uint64_t max_pixels = 135'000'000;
 };

@@ -1,6 +1,13 @@
 // core/load/gltf_loader.h: glTF 2.0 import (.gltf + .bin + images, or one .glb) through tinygltf, with the checks
-// tinygltf lacks: every accessor, buffer view and index is bounds-checked before a byte is read, images are decoded
-// by Texture::decode (the guarded stb/OpenEXR path and its memory budget), external files are regular files of
+// tinygltf lacks (below the includes, with what is read).
+#pragma once
+
+#include <string>
+
+#include "core/scene/scene.h"
+
+// The checks tinygltf lacks: every accessor, buffer view and index is bounds-checked before a byte is read, images are
+// decoded by Texture::decode (the guarded stb/OpenEXR path and its memory budget), external files are regular files of
 // bounded size, and the node hierarchy may not contain a cycle. Errors (pv::Error, one line) name the file and the
 // JSON pointer of what is wrong: "scene.gltf: /accessors/3: reads bytes 0..96 of bufferView 1, which has 64".
 //
@@ -15,11 +22,6 @@
 // extensionsRequired names an extension pathview does not read is refused naming it; an extension only used and not
 // read gets one warning. Materials: see core/load/gltf_materials.cpp and README (metallic-roughness, emission,
 // alpha modes).
-#pragma once
-
-#include <string>
-
-#include "core/scene/scene.h"
 
 namespace pv {
 

@@ -1,4 +1,11 @@
 // core/load/obj_loader.h: Wavefront OBJ/MTL import through tinyobjloader, with the validation tinyobjloader lacks.
+#pragma once
+
+#include <string>
+
+#include "core/scene/scene.h"
+
+// Validation and defaults:
 // Errors (pv::Error, "<file>:<line>: what; expected"): missing/unreadable file, out-of-range or wrapped face
 // indices, a zero face index, unparseable OBJ. Dropped and counted (one warning each): triangles with a
 // non-finite or absurd (|x| > 1e18) vertex, zero-area triangles, faces that are not triangles after
@@ -19,11 +26,6 @@
 //   Texture names are matched case-insensitively when the exact name is missing; a missing texture gives one
 //   warning and the flat colour.
 // When Kd + Ks exceeds 1 in a channel both are scaled down to sum to 1 (energy conservation), with a warning.
-#pragma once
-
-#include <string>
-
-#include "core/scene/scene.h"
 
 namespace pv {
 

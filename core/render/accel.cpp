@@ -193,7 +193,7 @@ void Accel::set_materials(const std::vector<Material>& materials) {
     Impl& im = *m_impl;
     if (materials.size() != im.alpha.size()) return;
     std::vector<uint32_t> alpha = alpha_textures(materials);
-    // Edits that leave every cut-out as it was (colours, roughness, emission: all the viewer edits today) touch
+    // Edits that leave every cut-out as it was (colours, roughness, emission: all the viewer edits) touch
     // nothing, so they never race with a query (ProgressiveRenderer::pick runs on the UI thread).
     if (alpha == im.alpha) return;
     bool same_split = true;

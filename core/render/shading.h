@@ -1,14 +1,16 @@
 // core/render/shading.h: what a material is at one hit, as the path tracer shades it: the normal map's shading normal
 // and the BSDF with its per-hit inputs (base-colour texture, glTF COLOR_0 vertex colour, metallic-roughness texture)
-// applied. The integrator, the AOV pass (core/frame/aov.cpp: the denoisers' albedo and normal) and the sky guide's
-// training walk (core/render/sky_guide.cpp) all go through these functions, so that the features and the guide see the
-// surface the render shades.
+// applied, for every caller that shades a hit (below the includes).
 #pragma once
 
 #include "core/render/normal_map.h"
 #include "core/render/surface.h"
 #include "core/scene/bsdf.h"
 #include "core/scene/scene.h"
+
+// The callers: the integrator, the AOV pass (core/frame/aov.cpp: the denoisers' albedo and normal) and the sky
+// guide's training walk (core/render/sky_guide.cpp) all go through these functions, so that the features and the guide
+// see the surface the render shades.
 
 namespace pv {
 

@@ -41,7 +41,7 @@ struct SurfacePoint {
     sp.p = sp.b0 * p0 + hit.u * p1 + hit.v * p2;
     sp.p_error = barycentric_error(p0, p1, p2, sp.b0, hit.u, hit.v);
     // Both normals are stored from the registers that computed the geometric one: copying sp.ng into sp.ns (or a
-    // local into both) went through memory, three 4-byte stores read back by one 8-byte load that waits for them
+    // local into both) goes through memory, three 4-byte stores read back by one 8-byte load that waits for them
     // (a store-forwarding stall per vertex).
     const vec3 ng = safe_normalize(glm::cross(p1 - p0, p2 - p0));
     const float nx = ng.x, ny = ng.y, nz = ng.z;  // read one float at a time

@@ -1,7 +1,5 @@
 // core/sampling/distribution.h: piecewise-constant distributions on [0,1) and [0,1)^2 (pbrt-v4 PiecewiseConstant1D/2D),
-// sampled in O(1) with Walker/Vose alias tables (pbrt-v4 AliasTable): one uniform picks a slot and, by comparing
-// its fractional part with the slot's threshold, the slot's own cell or its alias; the leftover of that uniform is
-// remapped to the offset inside the cell, so sampling stays continuous. Densities are with respect to the unit
+// sampled in O(1) with Walker/Vose alias tables (pbrt-v4 AliasTable). Densities are with respect to the unit
 // interval / square.
 #pragma once
 
@@ -24,8 +22,10 @@ struct AliasSlot {
 // weight 0 is never chosen.
 void build_alias_table(const float* w, size_t n, AliasSlot* out);
 
-// Picks a cell of the alias table slots[0..n) with u in [0,1); *offset receives the position in [0,1) inside it,
-// uniform and independent of the cell (the part of u left over by the choice, rescaled).
+// Picks a cell of the alias table slots[0..n) with u in [0,1): u picks a slot and, by comparing its fractional part
+// with the slot's threshold, the slot's own cell or its alias. *offset receives the position in [0,1) inside the
+// cell, uniform and independent of the cell (the part of u left over by the choice, rescaled), so sampling stays
+// continuous.
 inline size_t sample_alias_table(const AliasSlot* slots, size_t n, float u, float* offset) {
     const float s = u * float(n);
     const size_t i = std::min(static_cast<size_t>(s), n - 1);

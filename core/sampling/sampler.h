@@ -1,13 +1,5 @@
 // core/sampling/sampler.h: per-sample random numbers. Values depend only on (pixel, sample index, seed, dimension),
-// never on threads or scheduling, so an image is bit-identical for any thread count. Two kinds:
-//   independent: PCG32 keyed on (pixel, index, seed); error falls as 1/spp.
-//   sobol: shuffled, Owen-scrambled Sobol padded per draw (core/sampling/sobol.h), as two independent nets per pixel:
-//   the
-//          even samples 0, 2, 4, ... are points 0, 1, 2, ... of one scrambled sequence and the odd samples those of
-//          another, keyed on (pixel, index & 1). Each half's first 2^m samples are stratified like a (0,m,2)-net,
-//          and the halves are independent estimators, which the film's even/odd error estimate needs (one net
-//          over all samples makes 2k and 2k+1 an antithetic pair: the estimate was too high, its slope stuck near
-//          -1). Use power-of-two spp to get its full benefit.
+// never on threads or scheduling, so an image is bit-identical for any thread count.
 #pragma once
 
 #include <optional>
@@ -20,6 +12,14 @@
 
 namespace pv {
 
+// The sampler's two kinds:
+//   independent: PCG32 keyed on (pixel, index, seed); error falls as 1/spp.
+//   sobol: shuffled, Owen-scrambled Sobol padded per draw (core/sampling/sobol.h), as two independent nets per pixel:
+//          the even samples 0, 2, 4, ... are points 0, 1, 2, ... of one scrambled sequence and the odd samples those
+//          of another, keyed on (pixel, index & 1). Each half's first 2^m samples are stratified like a (0,m,2)-net,
+//          and the halves are independent estimators, which the film's even/odd error estimate needs (one net
+//          over all samples would make 2k and 2k+1 an antithetic pair: the estimate would be too high, its slope
+//          stuck near -1). Use power-of-two spp to get its full benefit.
 enum class SamplerKind : uint8_t { Independent, Sobol };
 
 // --sampler's words (and the settings text's): "independent" or "sobol" (also "ind").

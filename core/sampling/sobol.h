@@ -1,8 +1,7 @@
 // core/sampling/sobol.h: a shuffled, Owen-scrambled, padded Sobol sequence (Burley 2020, "Practical Hash-based Owen
-// Scrambling", JCGT 9(4); pbrt-v4's PaddedSobolSampler with FastOwenScrambler). Each 1D or 2D draw of a sample
-// has its own seed: the sample index is shuffled by a nested uniform scramble (which permutes every aligned block
-// of 2^m indices, so the first 2^m samples of a pixel form a (0,m,2)-net in each 2D pair), then the point is
-// Owen-scrambled. Values are 0.32 fixed point; floats keep the top 24 bits, so they are in [0, 1), never 1.0.
+// Scrambling", JCGT 9(4); pbrt-v4's PaddedSobolSampler with FastOwenScrambler). Each 1D or 2D draw of a sample has
+// its own seed: the sample index is shuffled by a nested uniform scramble (which permutes every aligned block of 2^m
+// indices, so the first 2^m samples of a pixel form a (0,m,2)-net in each 2D pair), then the point is Owen-scrambled.
 #pragma once
 
 #include <cstdint>
@@ -41,7 +40,7 @@ inline uint32_t owen_scramble(uint32_t v, uint32_t seed) {
 inline uint32_t sobol_dim0(uint32_t index) { return reverse_bits32(index); }
 uint32_t sobol_dim1(uint32_t index);
 
-// 0.32 fixed point -> float in [0, 1): the top 24 bits are exact in a float.
+// 0.32 fixed point -> float in [0, 1): the top 24 bits are exact in a float, so values are in [0, 1), never 1.0.
 inline float fixed_to_float(uint32_t v) { return static_cast<float>(v >> 8) * 0x1p-24f; }
 
 // Dimension 1 with both its input and its output bit-reversed: reverse_bits32(sobol_dim1(i)) computed from i

@@ -2,8 +2,6 @@
 // Conventions: local shading frame, +z = shading normal; wo and wi both point away from the surface;
 // eval() returns f WITHOUT the cosine; sample() returns {f, wi, pdf, is_delta} (not a pre-divided weight).
 // pdfs are per solid angle. Delta lobes: eval() and pdf() return 0. Colours are linear RGB.
-// Reflection-only lobes are two-sided (they treat wo.z < 0 by mirroring); the dielectric uses the sign of wo.z
-// to tell outside (+) from inside (-).
 #pragma once
 
 #include <optional>
@@ -47,6 +45,8 @@ struct Glossy {
 };
 
 // MetallicRoughness: glTF 2.0's material, core/scene/bsdf_pbr.h.
+// Reflection-only lobes are two-sided (they treat wo.z < 0 by mirroring); the dielectric uses the sign of wo.z
+// to tell outside (+) from inside (-).
 using Bsdf = std::variant<Lambertian, Mirror, Dielectric, Glossy, MetallicRoughness>;
 
 // f(wo, wi), without the cosine. Zero for delta lobes.

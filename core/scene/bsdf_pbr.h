@@ -2,7 +2,15 @@
 // KHR_materials_ior, _specular, _transmission and _volume), one alternative of Bsdf (core/scene/bsdf.h, whose
 // conventions hold: local frame, +z the shading normal, eval() without the cosine, delta lobes absent from eval() and
 // pdf()).
-//
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+
+#include "core/base/math.h"
+
+// The model:
 //   f = (1 - metallic) * dielectric + metallic * metal
 //   metal      = GGX reflection, Schlick Fresnel toward base_color:  F_m(c) = C + (1 - C)(1 - c)^5, c = wo.h
 //   dielectric = GGX reflection weighted by F(wo.h)
@@ -19,13 +27,6 @@
 // 1 / ior; refracted radiance is scaled by 1/eta^2 as Dielectric's is. Other configurations are two-sided.
 // Beer-Lambert attenuation (attenuation_color/distance, KHR_materials_volume) is applied by the path tracer to the
 // segments a path travels inside a solid one, entered and left by refraction.
-#pragma once
-
-#include <cmath>
-#include <cstdint>
-#include <optional>
-
-#include "core/base/math.h"
 
 namespace pv {
 

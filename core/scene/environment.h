@@ -1,12 +1,6 @@
 // core/scene/environment.h: light from infinitely far away: a sky (a constant radiance, or an equirectangular map)
 // plus an optional sun disk. Sampling picks the sun or the sky (one half each when both shine) and pdf() is the
-// mixture of the two, so MIS sees one light. The sky is a constant radiance, or an equirectangular map
-// (latitude-longitude, +y up) importance-sampled by a piecewise-constant distribution over its texels weighted by
-// luminance * sin(theta). The map is looked up per texel (no filtering) so the sampling pdf is exactly
-// proportional to the radiance it returns: eval() and pdf() find a direction's texel with the same search (an
-// approximate angle, then exact tests against the texel's edge directions), and sample() returns the radiance and
-// pdf of the texel it sampled. Directions: theta = acos(y); phi = atan2(-z, x) + rotation, so the map's centre
-// column (u = 0.5) faces -x. pdfs are per solid angle.
+// mixture of the two, so MIS sees one light.
 #pragma once
 
 #include <optional>
@@ -29,6 +23,12 @@ constexpr float kSunRadiusMinDeg = 0.01f, kSunRadiusMaxDeg = 45.f;
 // True if the environment with these settings gives any light; cheap (no sampling tables are built).
 bool environment_emits(const Scene& scene, const EnvironmentSettings& settings);
 
+// The sky is a constant radiance, or an equirectangular map (latitude-longitude, +y up) importance-sampled by a
+// piecewise-constant distribution over its texels weighted by luminance * sin(theta). The map is looked up per texel
+// (no filtering) so the sampling pdf is exactly proportional to the radiance it returns: eval() and pdf() find a
+// direction's texel with the same search (an approximate angle, then exact tests against the texel's edge
+// directions), and sample() returns the radiance and pdf of the texel it sampled. Directions: theta = acos(y);
+// phi = atan2(-z, x) + rotation, so the map's centre column (u = 0.5) faces -x. pdfs are per solid angle.
 class Environment {
 public:
     Environment() = default;

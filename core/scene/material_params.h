@@ -1,8 +1,7 @@
 // core/scene/material_params.h: the editable face of a Bsdf, and the one conversion between it and a Bsdf. Every place
 // that builds a BSDF from user parameters (the viewer's material editor, scene.json material overrides, the MTL
-// loader's glossy materials) goes through make_bsdf(), so the promises of core/scene/bsdf.h hold everywhere: colours in
-// [0, 1], a glossy material's diffuse + specular <= 1 per channel (its albedo stays <= 1), GGX roughness in
-// [kMinAlpha, 1], and a positive finite IOR (a metallic-roughness material: factors in [0, 1] as well).
+// loader's glossy materials) goes through make_bsdf(), so the promises of core/scene/bsdf.h hold everywhere (the
+// invariants at BsdfParams).
 #pragma once
 
 #include "core/scene/bsdf.h"
@@ -11,6 +10,9 @@ namespace pv {
 
 enum class BsdfType : int { Diffuse = 0, Glossy = 1, Mirror = 2, Glass = 3, MetallicRoughness = 4 };
 
+// The invariants make_bsdf() keeps: colours in [0, 1], a glossy material's diffuse + specular <= 1 per channel (its
+// albedo stays <= 1), GGX roughness in [kMinAlpha, 1], and a positive finite IOR (a metallic-roughness material:
+// factors in [0, 1] as well).
 struct BsdfParams {
     BsdfType type = BsdfType::Diffuse;
     vec3 base{0.8f};         // diffuse albedo; a mirror's reflectance; metallic-roughness: base colour

@@ -1,14 +1,7 @@
 // core/scene/texture.h: 2D image textures for base colour (map_Kd) and alpha (map_d, or map_Kd's alpha channel).
 // Linear values (8-bit colour images are sRGB-decoded on load; HDR images are already linear); bilinear
 // lookup, wrapping per axis as glTF's samplers do (repeat, the default and OBJ's; clamp to edge; mirrored repeat).
-// uv follows OBJ: v = 0 is the bottom row of the image. A texture whose every texel
-// is an 8-bit sRGB code (what an 8-bit image decodes to) is stored as those codes, 4 bytes a texel instead of 16,
-// and decoded per lookup through a 256-entry table: the same values, a quarter of the memory traffic. The codes are
-// tiled: 4x4 texels to a 64-byte block, one cache line, so a bilinear footprint touches 1.56 lines on average
-// instead of 2.1 (and one page more rarely two), where rows of a wide image are a page apart.
-//
-// Texels are immutable after construction and shared by copies of a Texture; pack_texels moves a scene's textures
-// into one region on huge pages (core/base/huge_pages.h), where a hit's texel reads rarely wait for a page walk.
+// uv follows OBJ: v = 0 is the bottom row of the image.
 #pragma once
 
 #include <memory>
@@ -51,6 +44,13 @@ inline size_t wrap_texel_index(long long i, int n, uint64_t magic) {
 // mirrored: k = i mod 2n, then k < n ? k : 2n - 1 - k.
 enum class TextureWrap : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
 
+// Storage: a texture whose every texel is an 8-bit sRGB code (what an 8-bit image decodes to) is stored as those
+// codes, 4 bytes a texel instead of 16, and decoded per lookup through a 256-entry table: the same values, a quarter
+// of the memory traffic. The codes are tiled: 4x4 texels to a 64-byte block, one cache line, so a bilinear footprint
+// touches 1.56 lines on average instead of 2.1 (and one page more rarely two), where rows of a wide image are a page
+// apart. Texels are immutable after construction and shared by copies of a Texture; pack_texels moves a scene's
+// textures into one region on huge pages (core/base/huge_pages.h), where a hit's texel reads rarely wait for a page
+// walk.
 class Texture {
 public:
     Texture() = default;
