@@ -4,6 +4,7 @@
 // with the closed forms under every estimator is in tests/test_light_matrix.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -76,7 +77,8 @@ TEST(LightTree, PmfSumsToOneOverTheEmitters) {
                 for (LightBounds& l : b) l.two_sided = true;
             const LightTree tree(b);
             ASSERT_FALSE(tree.empty());
-            EXPECT_EQ(tree.node_count(), size_t(2 * n - 1));
+            // 4-wide nodes of at least two children each (one: the single emitter's root).
+            EXPECT_LE(tree.node_count(), size_t(std::max(1, n - 1)));
             for (const Receiver& r : receivers(uint64_t(n) + 1, 40)) {
                 double sum = 0.0;
                 for (uint32_t k = 0; k < uint32_t(n); ++k) {

@@ -5,8 +5,12 @@
 // normals about w, theta_e the further angle each emits over, pi/2 for a surface). A pick descends from the root,
 // choosing a child with probability proportional to its importance for the shading point p and normal n
 // (LightBounds::importance); the probability of the emitter reached is the product of the choices, and pmf()
-// recomputes it exactly by walking the same nodes along the emitter's stored bit trail (bit i: which child at
-// depth i), with the same arithmetic, so the density MIS weighs a BSDF-found emitter with is the sampling density.
+// recomputes it exactly by walking the same nodes along the emitter's stored trail (which child at each depth),
+// with the same arithmetic, so the density MIS weighs a BSDF-found emitter with is the sampling density.
+// The binary tree built is collapsed into a 4-wide one (each node's children are its binary grandchildren) whose
+// nodes hold their four children's bounds side by side: a step of the pick evaluates four importances at once
+// (SSE) and chooses among them, so a pick takes half the steps of the binary tree's, each about the cost of one
+// scalar importance.
 #pragma once
 
 #include <cstdint>
@@ -66,25 +70,36 @@ public:
     // The probability sample() picks emitter k for (p, n).
     float pmf(uint32_t k, vec3 p, vec3 n) const;
 
+    // The 4-wide nodes (each holds up to four children's bounds).
     size_t node_count() const { return m_nodes.size(); }
     size_t memory_bytes() const;
+    // The binary tree's depth (the 4-wide tree's is about half of it).
     int depth() const { return m_depth; }
 
-private:
-    struct Node {
-        PackedLightBounds bounds;
-        uint32_t index = 0;  // a leaf: its emitter; an interior node: its second child (the first is the next node)
-        bool leaf = false;
+    // A 4-wide node: its children's bounds as PackedLightBounds, one lane each, laid out so that one pass of 4-wide
+    // arithmetic gives all four importances. An empty lane has phi 0 (importance 0).
+    struct alignas(64) Node {
+        float cx[4], cy[4], cz[4], radius[4];  // bounding spheres
+        float wx[4], wy[4], wz[4], phi[4];     // cone axes, powers
+        float cos_o[4], sin_o[4], cos_e[4];
+        uint32_t two_sided[4];  // all bits set when two-sided
+        uint32_t child[4];      // kLeafBit | emitter, or the child node's index
     };
-    uint32_t build(std::vector<uint32_t>& order, size_t begin, size_t end, const std::vector<LightBounds>& lights,
-                   uint64_t trail, int depth);
-    // The probability of the first child of interior node `node` (ci[0] / (ci[0] + ci[1])); -1 when neither child
-    // can light p.
-    float first_child_probability(const Node& node, vec3 p, vec3 n) const;
+    static constexpr uint32_t kLeafBit = 0x80000000u;
 
-    std::vector<Node> m_nodes;      // depth first, the root at 0
-    std::vector<uint64_t> m_trail;  // per emitter: bit i set when the pick goes to the second child at depth i
-    std::vector<uint32_t> m_leaf;   // per emitter: its leaf node, kNoIndex when left out
+private:
+    struct BuildNode {
+        LightBounds bounds;
+        uint32_t child[2] = {0, 0};   // an interior node's children
+        uint32_t emitter = kNoIndex;  // a leaf's emitter
+    };
+    uint32_t build(std::vector<BuildNode>& out, std::vector<uint32_t>& order, size_t begin, size_t end,
+                   const std::vector<LightBounds>& lights, int depth);
+    uint32_t collapse(const std::vector<BuildNode>& bin, uint32_t b, uint64_t trail, int shift);
+
+    std::vector<Node> m_nodes;      // the root at 0
+    std::vector<uint64_t> m_trail;  // per emitter: bits 2i, 2i + 1: its lane at depth i of the 4-wide tree
+    std::vector<uint32_t> m_leaf;   // per emitter: the node holding it, kNoIndex when left out
     int m_depth = 0;
 };
 
