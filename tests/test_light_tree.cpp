@@ -95,6 +95,28 @@ TEST(LightTree, PmfSumsToOneOverTheEmitters) {
         }
 }
 
+// A tree of at most four emitters is one node: the pick chooses among them directly, in proportion to their
+// importances computed four at a time (SSE), which agree with LightBounds::importance up to rounding.
+TEST(LightTree, ANodePicksInProportionToTheImportances) {
+    for (const int n : {2, 3, 4}) {
+        const std::vector<LightBounds> b = bounds_of(random_tris(n, uint64_t(40 + n)));
+        const LightTree tree(b);
+        ASSERT_EQ(tree.node_count(), 1u);
+        int compared = 0;
+        for (const Receiver& r : receivers(uint64_t(50 + n), 200)) {
+            double sum = 0.0;
+            for (const LightBounds& l : b) sum += double(l.importance(r.p, r.n));
+            if (!(sum > 0.0)) continue;
+            for (uint32_t k = 0; k < uint32_t(n); ++k) {
+                const double expected = double(b[k].importance(r.p, r.n)) / sum;
+                EXPECT_NEAR(double(tree.pmf(k, r.p, r.n)), expected, 1e-5 * expected + 1e-6) << n << " lights, " << k;
+            }
+            ++compared;
+        }
+        EXPECT_GT(compared, 100);
+    }
+}
+
 // Many emitters in one place (no split separates them): halves by count keep the tree within its 64-bit trails.
 TEST(LightTree, CoincidentEmittersStayWithinTheBitTrail) {
     std::vector<LightBounds> b(5000, triangle_light_bounds(vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0), 1.f, false));

@@ -145,57 +145,64 @@ namespace {
 inline __m128 select(__m128 mask, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)); }
 inline __m128 abs4(__m128 x) { return _mm_andnot_ps(_mm_set1_ps(-0.f), x); }
 inline __m128 madd(__m128 a, __m128 b, __m128 c) { return _mm_add_ps(_mm_mul_ps(a, b), c); }
-// sqrt(max(1 - x^2, 0)): a sine from a cosine.
-inline __m128 sine_of(__m128 cos_x) {
-    return _mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(_mm_set1_ps(1.f), _mm_mul_ps(cos_x, cos_x)), _mm_setzero_ps()));
-}
-
-// The importances (PackedLightBounds::importance, lane by lane, in the same steps) of a node's four children for p
-// (normal n, has_n false: none) into c; returns their sum, (c0 + c1) + (c2 + c3).
-float child_importances(const LightTree::Node& nd, vec3 p, vec3 n, bool has_n, float* c) {
+// The importances (PackedLightBounds::importance, lane by lane, up to rounding) of a node's children q..q+3 for p
+// (normal n, has_n false: none). The sines and 1 / d come from d^2 and unnormalised dot products, so that the square
+// roots and the division run side by side rather than one after another.
+inline __m128 importance4(const LightTree::Node& nd, size_t q, vec3 p, vec3 n, bool has_n) {
     const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.f);
-    const __m128 tx = _mm_sub_ps(_mm_set1_ps(p.x), _mm_load_ps(nd.cx));
-    const __m128 ty = _mm_sub_ps(_mm_set1_ps(p.y), _mm_load_ps(nd.cy));
-    const __m128 tz = _mm_sub_ps(_mm_set1_ps(p.z), _mm_load_ps(nd.cz));
+    const __m128 tx = _mm_sub_ps(_mm_set1_ps(p.x), _mm_load_ps(nd.cx + q));
+    const __m128 ty = _mm_sub_ps(_mm_set1_ps(p.y), _mm_load_ps(nd.cy + q));
+    const __m128 tz = _mm_sub_ps(_mm_set1_ps(p.z), _mm_load_ps(nd.cz + q));
     const __m128 d2 = madd(tz, tz, madd(ty, ty, _mm_mul_ps(tx, tx)));
-    const __m128 radius = _mm_load_ps(nd.radius);
+    const __m128 radius = _mm_load_ps(nd.radius + q);
     const __m128 r2 = _mm_mul_ps(radius, radius);
-    const __m128 d_positive = _mm_cmpgt_ps(d2, zero);
+    // 1 / d^2 and 1 / d (0 where d^2 is so small that 1 / d^2 would overflow: p is at the centre).
+    const __m128 d_positive = _mm_cmpgt_ps(d2, _mm_set1_ps(0x1p-100f));
     __m128 alive = _mm_or_ps(d_positive, _mm_cmpgt_ps(r2, zero));
-    const __m128 inv_d = _mm_and_ps(d_positive, _mm_div_ps(one, _mm_sqrt_ps(d2)));
-    const __m128 wix = _mm_mul_ps(tx, inv_d), wiy = _mm_mul_ps(ty, inv_d), wiz = _mm_mul_ps(tz, inv_d);
-    // The angle between the cone's axis and the direction to p.
-    __m128 cos_w = madd(_mm_load_ps(nd.wz), wiz, madd(_mm_load_ps(nd.wy), wiy, _mm_mul_ps(_mm_load_ps(nd.wx), wix)));
-    cos_w =
-        select(_mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(nd.two_sided))), abs4(cos_w), cos_w);
+    const __m128 inv_d2 = _mm_and_ps(d_positive, _mm_div_ps(one, d2));
+    const __m128 inv_d = _mm_mul_ps(_mm_sqrt_ps(d2), inv_d2);
+    // The angle between the cone's axis and the direction to p: its cosine d cos_w and sine d sin_w first.
+    __m128 dcos_w =
+        madd(_mm_load_ps(nd.wz + q), tz, madd(_mm_load_ps(nd.wy + q), ty, _mm_mul_ps(_mm_load_ps(nd.wx + q), tx)));
+    dcos_w = select(_mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(nd.two_sided + q))), abs4(dcos_w),
+                    dcos_w);
+    const __m128 sin_w = _mm_mul_ps(_mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(d2, _mm_mul_ps(dcos_w, dcos_w)), zero)), inv_d);
+    const __m128 cos_w = _mm_mul_ps(dcos_w, inv_d);
     // The half angle theta_b the bounding sphere subtends at p (everything when p is inside it).
     const __m128 outside = _mm_cmpgt_ps(d2, r2);
     const __m128 sin_b = _mm_and_ps(outside, _mm_mul_ps(radius, inv_d));
-    const __m128 cos_b = select(outside, sine_of(sin_b), _mm_set1_ps(-1.f));
+    const __m128 cos_b =
+        select(outside, _mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(one, _mm_mul_ps(r2, inv_d2)), zero)), _mm_set1_ps(-1.f));
     // theta' = max(0, theta_w - theta_o - theta_b): the least angle between a normal and a direction to p.
-    const __m128 cos_o = _mm_load_ps(nd.cos_o), sin_o = _mm_load_ps(nd.sin_o);
-    const __m128 sin_w = sine_of(cos_w);
+    const __m128 cos_o = _mm_load_ps(nd.cos_o + q), sin_o = _mm_load_ps(nd.sin_o + q);
     const __m128 cos_x = madd(sin_w, sin_o, _mm_mul_ps(cos_w, cos_o));
     const __m128 sin_x = _mm_sub_ps(_mm_mul_ps(sin_w, cos_o), _mm_mul_ps(cos_w, sin_o));
     const __m128 beyond = _mm_cmplt_ps(cos_w, cos_o);
     const __m128 cos_p =
         select(_mm_andnot_ps(_mm_cmpgt_ps(cos_x, cos_b), beyond), madd(sin_x, sin_b, _mm_mul_ps(cos_x, cos_b)), one);
-    alive = _mm_andnot_ps(_mm_and_ps(beyond, _mm_cmple_ps(cos_p, _mm_load_ps(nd.cos_e))), alive);
+    alive = _mm_andnot_ps(_mm_and_ps(beyond, _mm_cmple_ps(cos_p, _mm_load_ps(nd.cos_e + q))), alive);
     // phi cos' / max(|p - centre|^2, radius^2).
-    const __m128 inv_d2 = select(outside, _mm_mul_ps(inv_d, inv_d), _mm_div_ps(one, r2));
-    __m128 imp = _mm_mul_ps(_mm_mul_ps(_mm_load_ps(nd.phi), cos_p), inv_d2);
+    const __m128 inv_dist2 = select(outside, inv_d2, _mm_load_ps(nd.inv_r2 + q));
+    __m128 imp = _mm_mul_ps(_mm_mul_ps(_mm_load_ps(nd.phi + q), cos_p), inv_dist2);
     if (has_n) {
         // The receiver's cosine, at most cos(max(0, theta_i - theta_b)).
-        const __m128 cos_i =
-            abs4(madd(wiz, _mm_set1_ps(n.z), madd(wiy, _mm_set1_ps(n.y), _mm_mul_ps(wix, _mm_set1_ps(n.x)))));
-        imp = select(_mm_cmplt_ps(cos_i, cos_b), _mm_mul_ps(imp, madd(sine_of(cos_i), sin_b, _mm_mul_ps(cos_i, cos_b))),
-                     imp);
+        const __m128 dcos_i =
+            abs4(madd(tz, _mm_set1_ps(n.z), madd(ty, _mm_set1_ps(n.y), _mm_mul_ps(tx, _mm_set1_ps(n.x)))));
+        const __m128 sin_i =
+            _mm_mul_ps(_mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(d2, _mm_mul_ps(dcos_i, dcos_i)), zero)), inv_d);
+        const __m128 cos_i = _mm_mul_ps(dcos_i, inv_d);
+        imp = select(_mm_cmplt_ps(cos_i, cos_b), _mm_mul_ps(imp, madd(sin_i, sin_b, _mm_mul_ps(cos_i, cos_b))), imp);
     }
     // Finite and positive, or 0 (a NaN compares false).
     alive = _mm_and_ps(alive, _mm_cmplt_ps(abs4(imp), _mm_set1_ps(std::numeric_limits<float>::infinity())));
-    imp = _mm_and_ps(alive, _mm_max_ps(imp, zero));
-    _mm_storeu_ps(c, imp);
-    return (c[0] + c[1]) + (c[2] + c[3]);
+    return _mm_and_ps(alive, _mm_max_ps(imp, zero));
+}
+
+// The importances of a node's children into c; returns their sum (pairwise).
+float child_importances(const LightTree::Node& nd, vec3 p, vec3 n, bool has_n, float* c) {
+    for (size_t q = 0; q < size_t(LightTree::kWidth); q += 4) _mm_store_ps(c + q, importance4(nd, q, p, n, has_n));
+    if constexpr (LightTree::kWidth == 4) return (c[0] + c[1]) + (c[2] + c[3]);
+    return ((c[0] + c[1]) + (c[2] + c[3])) + ((c[4] + c[5]) + (c[6] + c[7]));
 }
 
 bool usable(float sum) { return sum > 0.f && sum < std::numeric_limits<float>::infinity(); }
@@ -225,26 +232,30 @@ size_t LightTree::memory_bytes() const {
 }
 
 uint32_t LightTree::collapse(const std::vector<BuildNode>& bin, uint32_t b, uint64_t trail, int shift) {
-    // The children: b's binary grandchildren, or its child where that is a leaf (or b itself, a leaf root).
-    std::array<uint32_t, 4> slots{};
-    int count = 0;
-    if (bin[b].emitter != kNoIndex) {
-        slots[size_t(count++)] = b;
-    } else {
-        for (const uint32_t c : bin[b].child) {
-            if (bin[c].emitter != kNoIndex) {
-                slots[size_t(count++)] = c;
+    // The children: b's binary descendants kWidthLog2 levels down, or the leaves above them (b itself, a leaf root).
+    std::array<uint32_t, kWidth> slots{};
+    int count = 1;
+    slots[0] = b;
+    for (int level = 0; level < kWidthLog2; ++level) {
+        std::array<uint32_t, kWidth> next{};
+        int n = 0;
+        for (int i = 0; i < count; ++i) {
+            const BuildNode& s = bin[slots[size_t(i)]];
+            if (s.emitter != kNoIndex) {
+                next[size_t(n++)] = slots[size_t(i)];
             } else {
-                slots[size_t(count++)] = bin[c].child[0];
-                slots[size_t(count++)] = bin[c].child[1];
+                next[size_t(n++)] = s.child[0];
+                next[size_t(n++)] = s.child[1];
             }
         }
+        slots = next;
+        count = n;
     }
     const uint32_t node = uint32_t(m_nodes.size());
     m_nodes.emplace_back();
     {
         Node& nd = m_nodes.back();
-        for (size_t i = 0; i < 4; ++i) {
+        for (size_t i = 0; i < size_t(kWidth); ++i) {
             // Empty lanes: power 0, so importance 0.
             PackedLightBounds pb;
             if (int(i) < count) pb = PackedLightBounds(bin[slots[i]].bounds);
@@ -252,6 +263,7 @@ uint32_t LightTree::collapse(const std::vector<BuildNode>& bin, uint32_t b, uint
             nd.cy[i] = pb.centre.y;
             nd.cz[i] = pb.centre.z;
             nd.radius[i] = pb.radius;
+            nd.inv_r2[i] = 1.f / (pb.radius * pb.radius);
             nd.wx[i] = pb.w.x;
             nd.wy[i] = pb.w.y;
             nd.wz[i] = pb.w.z;
@@ -272,7 +284,7 @@ uint32_t LightTree::collapse(const std::vector<BuildNode>& bin, uint32_t b, uint
             m_trail[bin[s].emitter] = t;
             m_leaf[bin[s].emitter] = node;
         } else {
-            child = collapse(bin, s, t, shift + 2);
+            child = collapse(bin, s, t, shift + kWidthLog2);
         }
         m_nodes[node].child[i] = child;
     }
@@ -374,18 +386,24 @@ bool LightTree::sample(vec3 p, vec3 n, float u, uint32_t* k, float* pmf) const {
     float prob = 1.f;
     uint32_t node = 0;
     for (;;) {
-        alignas(16) float c[4];
+        alignas(16) float c[kWidth];
         const float sum = child_importances(m_nodes[node], p, n, has_n, c);
         if (!usable(sum)) return false;
         // Child j where u sum falls among the running sums, never one of importance 0: the last positive one
         // where rounding carries u sum past them all.
         const float t = u * sum;
-        const float s0 = c[0], s1 = s0 + c[1], s2 = s1 + c[2];
-        const int last = 31 - __builtin_clz(unsigned(_mm_movemask_ps(_mm_cmpgt_ps(_mm_load_ps(c), _mm_setzero_ps()))));
-        const int j = std::min(int(t >= s0) + int(t >= s1) + int(t >= s2), last);
-        const float below = j == 0 ? 0.f : j == 1 ? s0 : j == 2 ? s1 : s2;
+        float below[kWidth];
+        float run = 0.f;
+        int last = 0, j = 0;
+        for (int i = 0; i < kWidth; ++i) {
+            below[i] = run;
+            if (c[i] > 0.f) last = i;
+            run += c[i];
+            if (i < kWidth - 1 && t >= run) j = i + 1;
+        }
+        j = std::min(j, last);
         prob *= c[j] / sum;
-        u = std::min(std::max(t - below, 0.f) / c[j], 0x1.fffffep-1f);
+        u = std::min(std::max(t - below[j], 0.f) / c[j], 0x1.fffffep-1f);
         const uint32_t child = m_nodes[node].child[j];
         if (child & kLeafBit) {
             *k = child & ~kLeafBit;
@@ -403,11 +421,11 @@ float LightTree::pmf(uint32_t k, vec3 p, vec3 n) const {
     float prob = 1.f;
     uint32_t node = 0;
     for (;;) {
-        alignas(16) float c[4];
+        alignas(16) float c[kWidth];
         const float sum = child_importances(m_nodes[node], p, n, has_n, c);
         if (!usable(sum)) return 0.f;
-        const size_t j = size_t(trail & 3u);
-        trail >>= 2;
+        const size_t j = size_t(trail & uint64_t(kWidth - 1));
+        trail >>= kWidthLog2;
         prob *= c[j] / sum;
         const uint32_t child = m_nodes[node].child[j];
         if (child & kLeafBit) return prob;

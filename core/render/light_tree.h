@@ -18,6 +18,10 @@
 
 #include "core/base/math.h"
 
+#ifndef PV_LT_WIDTH_LOG2
+#define PV_LT_WIDTH_LOG2 2
+#endif
+
 namespace pv {
 
 // What a node (or one emitter) can send toward a point.
@@ -78,12 +82,14 @@ public:
 
     // A 4-wide node: its children's bounds as PackedLightBounds, one lane each, laid out so that one pass of 4-wide
     // arithmetic gives all four importances. An empty lane has phi 0 (importance 0).
+    static constexpr int kWidthLog2 = PV_LT_WIDTH_LOG2;
+    static constexpr int kWidth = 1 << kWidthLog2;
     struct alignas(64) Node {
-        float cx[4], cy[4], cz[4], radius[4];  // bounding spheres
-        float wx[4], wy[4], wz[4], phi[4];     // cone axes, powers
-        float cos_o[4], sin_o[4], cos_e[4];
-        uint32_t two_sided[4];  // all bits set when two-sided
-        uint32_t child[4];      // kLeafBit | emitter, or the child node's index
+        float cx[kWidth], cy[kWidth], cz[kWidth], radius[kWidth], inv_r2[kWidth];  // bounding spheres
+        float wx[kWidth], wy[kWidth], wz[kWidth], phi[kWidth];                     // cone axes, powers
+        float cos_o[kWidth], sin_o[kWidth], cos_e[kWidth];
+        uint32_t two_sided[kWidth];  // all bits set when two-sided
+        uint32_t child[kWidth];      // kLeafBit | emitter, or the child node's index
     };
     static constexpr uint32_t kLeafBit = 0x80000000u;
 
