@@ -220,7 +220,7 @@ LightTree::LightTree(const std::vector<LightBounds>& lights) {
     std::vector<BuildNode> bin;
     bin.reserve(2 * order.size() - 1);
     build(bin, order, 0, order.size(), lights, 0);
-    // Each 4-wide node takes two levels of the binary tree (and has at least two children but at the root of a
+    // Each node takes kWidthLog2 levels of the binary tree (and has at least two children but at the root of a
     // single emitter): fewer nodes than emitters.
     m_nodes.reserve(std::max<size_t>(order.size() - 1, 1));
     collapse(bin, 0, 0, 0);
