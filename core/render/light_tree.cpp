@@ -200,7 +200,9 @@ inline __m128 importance4(const LightTree::Node& nd, size_t q, vec3 p, vec3 n, b
 
 // The importances of a node's children into c; returns their sum (pairwise).
 float child_importances(const LightTree::Node& nd, vec3 p, vec3 n, bool has_n, float* c) {
-    for (size_t q = 0; q < size_t(LightTree::kWidth); q += 4) _mm_store_ps(c + q, importance4(nd, q, p, n, has_n));
+    // The lanes are filled from the first: a node of at most four children (the Cornell box's quad) takes one pass.
+    for (size_t q = 0; q < size_t(LightTree::kWidth); q += 4)
+        _mm_store_ps(c + q, q == 0 || nd.child[q] != kNoIndex ? importance4(nd, q, p, n, has_n) : _mm_setzero_ps());
     if constexpr (LightTree::kWidth == 4) return (c[0] + c[1]) + (c[2] + c[3]);
     return ((c[0] + c[1]) + (c[2] + c[3])) + ((c[4] + c[5]) + (c[6] + c[7]));
 }
