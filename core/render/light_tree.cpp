@@ -2,6 +2,8 @@
 // heuristic) and pick (see light_tree.h).
 #include "core/render/light_tree.h"
 
+#include <emmintrin.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -138,6 +140,77 @@ LightBounds triangle_light_bounds(vec3 p0, vec3 p1, vec3 p2, float phi, bool two
     return b;
 }
 
+namespace {
+
+inline __m128 select(__m128 mask, __m128 a, __m128 b) { return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b)); }
+inline __m128 abs4(__m128 x) { return _mm_andnot_ps(_mm_set1_ps(-0.f), x); }
+inline __m128 madd(__m128 a, __m128 b, __m128 c) { return _mm_add_ps(_mm_mul_ps(a, b), c); }
+// The importances (PackedLightBounds::importance, lane by lane, up to rounding) of a node's children q..q+3 for p
+// (normal n, has_n false: none). The sines and 1 / d come from d^2 and unnormalised dot products, so that the square
+// roots and the division run side by side rather than one after another.
+inline __m128 importance4(const LightTree::Node& nd, size_t q, vec3 p, vec3 n, bool has_n) {
+    const __m128 zero = _mm_setzero_ps(), one = _mm_set1_ps(1.f);
+    const __m128 tx = _mm_sub_ps(_mm_set1_ps(p.x), _mm_load_ps(nd.cx + q));
+    const __m128 ty = _mm_sub_ps(_mm_set1_ps(p.y), _mm_load_ps(nd.cy + q));
+    const __m128 tz = _mm_sub_ps(_mm_set1_ps(p.z), _mm_load_ps(nd.cz + q));
+    const __m128 d2 = madd(tz, tz, madd(ty, ty, _mm_mul_ps(tx, tx)));
+    const __m128 radius = _mm_load_ps(nd.radius + q);
+    const __m128 r2 = _mm_mul_ps(radius, radius);
+    // 1 / d^2 and 1 / d (0 where d^2 is so small that 1 / d^2 would overflow: p is at the centre).
+    const __m128 d_positive = _mm_cmpgt_ps(d2, _mm_set1_ps(0x1p-100f));
+    __m128 alive = _mm_or_ps(d_positive, _mm_cmpgt_ps(r2, zero));
+    const __m128 inv_d2 = _mm_and_ps(d_positive, _mm_div_ps(one, d2));
+    const __m128 inv_d = _mm_mul_ps(_mm_sqrt_ps(d2), inv_d2);
+    // The angle between the cone's axis and the direction to p: its cosine d cos_w and sine d sin_w first.
+    __m128 dcos_w =
+        madd(_mm_load_ps(nd.wz + q), tz, madd(_mm_load_ps(nd.wy + q), ty, _mm_mul_ps(_mm_load_ps(nd.wx + q), tx)));
+    dcos_w = select(_mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(nd.two_sided + q))), abs4(dcos_w),
+                    dcos_w);
+    const __m128 sin_w = _mm_mul_ps(_mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(d2, _mm_mul_ps(dcos_w, dcos_w)), zero)), inv_d);
+    const __m128 cos_w = _mm_mul_ps(dcos_w, inv_d);
+    // The half angle theta_b the bounding sphere subtends at p (everything when p is inside it).
+    const __m128 outside = _mm_cmpgt_ps(d2, r2);
+    const __m128 sin_b = _mm_and_ps(outside, _mm_mul_ps(radius, inv_d));
+    const __m128 cos_b =
+        select(outside, _mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(one, _mm_mul_ps(r2, inv_d2)), zero)), _mm_set1_ps(-1.f));
+    // theta' = max(0, theta_w - theta_o - theta_b): the least angle between a normal and a direction to p.
+    const __m128 cos_o = _mm_load_ps(nd.cos_o + q), sin_o = _mm_load_ps(nd.sin_o + q);
+    const __m128 cos_x = madd(sin_w, sin_o, _mm_mul_ps(cos_w, cos_o));
+    const __m128 sin_x = _mm_sub_ps(_mm_mul_ps(sin_w, cos_o), _mm_mul_ps(cos_w, sin_o));
+    const __m128 beyond = _mm_cmplt_ps(cos_w, cos_o);
+    const __m128 cos_p =
+        select(_mm_andnot_ps(_mm_cmpgt_ps(cos_x, cos_b), beyond), madd(sin_x, sin_b, _mm_mul_ps(cos_x, cos_b)), one);
+    alive = _mm_andnot_ps(_mm_and_ps(beyond, _mm_cmple_ps(cos_p, _mm_load_ps(nd.cos_e + q))), alive);
+    // phi cos' / max(|p - centre|^2, radius^2).
+    const __m128 inv_dist2 = select(outside, inv_d2, _mm_load_ps(nd.inv_r2 + q));
+    __m128 imp = _mm_mul_ps(_mm_mul_ps(_mm_load_ps(nd.phi + q), cos_p), inv_dist2);
+    if (has_n) {
+        // The receiver's cosine, at most cos(max(0, theta_i - theta_b)).
+        const __m128 dcos_i =
+            abs4(madd(tz, _mm_set1_ps(n.z), madd(ty, _mm_set1_ps(n.y), _mm_mul_ps(tx, _mm_set1_ps(n.x)))));
+        const __m128 sin_i =
+            _mm_mul_ps(_mm_sqrt_ps(_mm_max_ps(_mm_sub_ps(d2, _mm_mul_ps(dcos_i, dcos_i)), zero)), inv_d);
+        const __m128 cos_i = _mm_mul_ps(dcos_i, inv_d);
+        imp = select(_mm_cmplt_ps(cos_i, cos_b), _mm_mul_ps(imp, madd(sin_i, sin_b, _mm_mul_ps(cos_i, cos_b))), imp);
+    }
+    // Finite and positive, or 0 (a NaN compares false).
+    alive = _mm_and_ps(alive, _mm_cmplt_ps(abs4(imp), _mm_set1_ps(std::numeric_limits<float>::infinity())));
+    return _mm_and_ps(alive, _mm_max_ps(imp, zero));
+}
+
+// The importances of a node's children into c; returns their sum (pairwise).
+float child_importances(const LightTree::Node& nd, vec3 p, vec3 n, bool has_n, float* c) {
+    // The lanes are filled from the first: a node of at most four children (the Cornell box's quad) takes one pass.
+    for (size_t q = 0; q < size_t(LightTree::kWidth); q += 4)
+        _mm_store_ps(c + q, q == 0 || nd.child[q] != kNoIndex ? importance4(nd, q, p, n, has_n) : _mm_setzero_ps());
+    if constexpr (LightTree::kWidth == 4) return (c[0] + c[1]) + (c[2] + c[3]);
+    return ((c[0] + c[1]) + (c[2] + c[3])) + ((c[4] + c[5]) + (c[6] + c[7]));
+}
+
+bool usable(float sum) { return sum > 0.f && sum < std::numeric_limits<float>::infinity(); }
+
+}  // namespace
+
 LightTree::LightTree(const std::vector<LightBounds>& lights) {
     std::vector<uint32_t> order;
     for (uint32_t k = 0; k < lights.size(); ++k)
@@ -146,8 +219,14 @@ LightTree::LightTree(const std::vector<LightBounds>& lights) {
     m_trail.assign(lights.size(), 0);
     m_leaf.assign(lights.size(), kNoIndex);
     if (order.empty()) return;
-    m_nodes.reserve(2 * order.size() - 1);
-    build(order, 0, order.size(), lights, 0, 0);
+    std::vector<BuildNode> bin;
+    bin.reserve(2 * order.size() - 1);
+    build(bin, order, 0, order.size(), lights, 0);
+    // Each node takes kWidthLog2 levels of the binary tree (and has at least two children but at the root of a
+    // single emitter): fewer nodes than emitters.
+    m_nodes.reserve(std::max<size_t>(order.size() - 1, 1));
+    collapse(bin, 0, 0, 0);
+    m_nodes.shrink_to_fit();  // about n / 3 nodes of 8 lanes
 }
 
 size_t LightTree::memory_bytes() const {
@@ -155,18 +234,75 @@ size_t LightTree::memory_bytes() const {
            m_leaf.capacity() * sizeof(uint32_t);
 }
 
-uint32_t LightTree::build(std::vector<uint32_t>& order, size_t begin, size_t end,
-                          const std::vector<LightBounds>& lights, uint64_t trail, int depth) {
-    m_depth = std::max(m_depth, depth);
+uint32_t LightTree::collapse(const std::vector<BuildNode>& bin, uint32_t b, uint64_t trail, int shift) {
+    // The children: b's binary descendants kWidthLog2 levels down, or the leaves above them (b itself, a leaf root).
+    std::array<uint32_t, kWidth> slots{};
+    int count = 1;
+    slots[0] = b;
+    for (int level = 0; level < kWidthLog2; ++level) {
+        std::array<uint32_t, kWidth> next{};
+        int n = 0;
+        for (int i = 0; i < count; ++i) {
+            const BuildNode& s = bin[slots[size_t(i)]];
+            if (s.emitter != kNoIndex) {
+                next[size_t(n++)] = slots[size_t(i)];
+            } else {
+                next[size_t(n++)] = s.child[0];
+                next[size_t(n++)] = s.child[1];
+            }
+        }
+        slots = next;
+        count = n;
+    }
     const uint32_t node = uint32_t(m_nodes.size());
     m_nodes.emplace_back();
+    {
+        Node& nd = m_nodes.back();
+        for (size_t i = 0; i < size_t(kWidth); ++i) {
+            // Empty lanes: power 0, so importance 0.
+            PackedLightBounds pb;
+            if (int(i) < count) pb = PackedLightBounds(bin[slots[i]].bounds);
+            nd.cx[i] = pb.centre.x;
+            nd.cy[i] = pb.centre.y;
+            nd.cz[i] = pb.centre.z;
+            nd.radius[i] = pb.radius;
+            nd.inv_r2[i] = 1.f / (pb.radius * pb.radius);
+            nd.wx[i] = pb.w.x;
+            nd.wy[i] = pb.w.y;
+            nd.wz[i] = pb.w.z;
+            nd.phi[i] = int(i) < count ? pb.phi : 0.f;
+            nd.cos_o[i] = pb.cos_o;
+            nd.sin_o[i] = pb.sin_o;
+            nd.cos_e[i] = pb.cos_e;
+            nd.two_sided[i] = pb.two_sided ? 0xffffffffu : 0u;
+            nd.child[i] = kNoIndex;
+        }
+    }
+    for (int i = 0; i < count; ++i) {
+        const uint32_t s = slots[size_t(i)];
+        const uint64_t t = trail | (uint64_t(i) << shift);
+        uint32_t child;
+        if (bin[s].emitter != kNoIndex) {
+            child = kLeafBit | bin[s].emitter;
+            m_trail[bin[s].emitter] = t;
+            m_leaf[bin[s].emitter] = node;
+        } else {
+            child = collapse(bin, s, t, shift + kWidthLog2);
+        }
+        m_nodes[node].child[i] = child;
+    }
+    return node;
+}
+
+uint32_t LightTree::build(std::vector<BuildNode>& out, std::vector<uint32_t>& order, size_t begin, size_t end,
+                          const std::vector<LightBounds>& lights, int depth) {
+    m_depth = std::max(m_depth, depth);
+    const uint32_t node = uint32_t(out.size());
+    out.emplace_back();
     if (end - begin == 1) {
         const uint32_t k = order[begin];
-        m_nodes[node].bounds = PackedLightBounds(lights[k]);
-        m_nodes[node].index = k;
-        m_nodes[node].leaf = true;
-        m_trail[k] = trail;
-        m_leaf[k] = node;
+        out[node].bounds = lights[k];
+        out[node].emitter = k;
         return node;
     }
     LightBounds all;
@@ -239,65 +375,65 @@ uint32_t LightTree::build(std::vector<uint32_t>& order, size_t begin, size_t end
                              return ca < cb || (ca == cb && a < b);
                          });
     }
-    build(order, begin, mid, lights, trail, depth + 1);
-    const uint32_t second = build(order, mid, end, lights, trail | (uint64_t(1) << depth), depth + 1);
-    m_nodes[node].bounds = PackedLightBounds(all);
-    m_nodes[node].index = second;
-    m_nodes[node].leaf = false;
+    const uint32_t first = build(out, order, begin, mid, lights, depth + 1);
+    const uint32_t second = build(out, order, mid, end, lights, depth + 1);
+    out[node].bounds = all;
+    out[node].child[0] = first;
+    out[node].child[1] = second;
     return node;
-}
-
-float LightTree::first_child_probability(const Node& node, vec3 p, vec3 n) const {
-    const float c0 = m_nodes[size_t(&node - m_nodes.data()) + 1].bounds.importance(p, n);
-    const float c1 = m_nodes[node.index].bounds.importance(p, n);
-    const float sum = c0 + c1;
-    if (!(sum > 0.f) || !std::isfinite(sum)) return -1.f;
-    return c0 / sum;
 }
 
 bool LightTree::sample(vec3 p, vec3 n, float u, uint32_t* k, float* pmf) const {
     if (m_nodes.empty()) return false;
+    const bool has_n = n != vec3(0.f);
     float prob = 1.f;
-    uint32_t i = 0;
-    if (m_nodes[0].leaf && !(m_nodes[0].bounds.importance(p, n) > 0.f)) return false;
-    while (!m_nodes[i].leaf) {
-        const float p0 = first_child_probability(m_nodes[i], p, n);
-        if (p0 < 0.f) return false;
-        if (u < p0) {
-            u = std::min(u / p0, 0x1.fffffep-1f);
-            prob *= p0;
-            i = i + 1;
-        } else {
-            const float p1 = 1.f - p0;
-            u = std::min((u - p0) / p1, 0x1.fffffep-1f);
-            prob *= p1;
-            i = m_nodes[i].index;
+    uint32_t node = 0;
+    for (;;) {
+        alignas(16) float c[kWidth];
+        const float sum = child_importances(m_nodes[node], p, n, has_n, c);
+        if (!usable(sum)) return false;
+        // Child j where u sum falls among the running sums, never one of importance 0: the last positive one
+        // where rounding carries u sum past them all.
+        const float t = u * sum;
+        float below[kWidth];
+        float run = 0.f;
+        int last = 0, j = 0;
+        for (int i = 0; i < kWidth; ++i) {
+            below[i] = run;
+            if (c[i] > 0.f) last = i;
+            run += c[i];
+            if (i < kWidth - 1 && t >= run) j = i + 1;
         }
+        j = std::min(j, last);
+        prob *= c[j] / sum;
+        u = std::min(std::max(t - below[j], 0.f) / c[j], 0x1.fffffep-1f);
+        const uint32_t child = m_nodes[node].child[j];
+        if (child & kLeafBit) {
+            *k = child & ~kLeafBit;
+            *pmf = prob;
+            return prob > 0.f;
+        }
+        node = child;
     }
-    *k = m_nodes[i].index;
-    *pmf = prob;
-    return prob > 0.f;
 }
 
 float LightTree::pmf(uint32_t k, vec3 p, vec3 n) const {
     if (k >= m_leaf.size() || m_leaf[k] == kNoIndex) return 0.f;
-    if (m_nodes[0].leaf) return m_nodes[0].bounds.importance(p, n) > 0.f ? 1.f : 0.f;
+    const bool has_n = n != vec3(0.f);
     uint64_t trail = m_trail[k];
     float prob = 1.f;
-    uint32_t i = 0;
-    while (!m_nodes[i].leaf) {
-        const float p0 = first_child_probability(m_nodes[i], p, n);
-        if (p0 < 0.f) return 0.f;
-        if (trail & 1u) {
-            prob *= 1.f - p0;
-            i = m_nodes[i].index;
-        } else {
-            prob *= p0;
-            i = i + 1;
-        }
-        trail >>= 1;
+    uint32_t node = 0;
+    for (;;) {
+        alignas(16) float c[kWidth];
+        const float sum = child_importances(m_nodes[node], p, n, has_n, c);
+        if (!usable(sum)) return 0.f;
+        const size_t j = size_t(trail & uint64_t(kWidth - 1));
+        trail >>= kWidthLog2;
+        prob *= c[j] / sum;
+        const uint32_t child = m_nodes[node].child[j];
+        if (child & kLeafBit) return prob;
+        node = child;
     }
-    return prob;
 }
 
 }  // namespace pv
