@@ -1,24 +1,6 @@
 // core/frame/partial.h: partial renders. A render split by sample index: each process renders the indices
-// [start, start + count) (Renderer::set_next_sample) and writes a partial EXR; `pathview merge` adds the parts'
-// per-pixel sums, and `pathview render --resume` continues one. Samples depend only on (pixel, index, seed), so
-// the merged sums are those of one process rendering every index.
-//
-// File format (pathview:partial = 1), an ordinary scanline EXR that any viewer shows as the mean image:
-//   R, G, B            FLOAT  the mean (what read_exr() returns)
-//   sum_hi.R .. sum_lo.B, sumsq_hi.*, sumsq_lo.*, half_hi.*, half_lo.*
-//                      UINT   Film's double accumulators (sum, sum of squares, first half-buffer sum) stored
-//                             exactly: the high and low 32 bits of each IEEE-754 double. EXR has no double
-//                             channels; a float hi + float lo pair keeps only 48 of the 53 significant bits, and a
-//                             float mean + count loses the sum's low bits, so neither merges exactly.
-//   count.n, count.half UINT  accepted samples per pixel, and of those in the first half-buffer
-// String attributes: pathview:version, pathview:scene_hash (content of geometry, materials, textures and
-// environment), pathview:settings, pathview:partial:camera (exact), pathview:samples ("0:16,32:16"), pathview:spp,
-// pathview:rel_mse_estimate (Film::estimated_rel_mse of the file's sums), plus informational ones (scene path,
-// seconds, rays, dropped samples) that a merge sums or keeps.
-//
-// The concerns live beside this file: the sample ranges (partial_ranges.h), the identity's text: version, settings,
-// camera (render_identity.h), the scene hash (scene_hash.h) and the merge (partial_merge.h). This header includes
-// all but the merge.
+// [start, start + count) and writes a partial EXR; `pathview merge` adds the parts' per-pixel sums, and `pathview
+// render --resume` continues one. Samples depend only on (pixel, index, seed), so the merged sums are exact.
 #pragma once
 
 #include <cstdint>
@@ -35,6 +17,23 @@
 #include "core/image/image_io.h"
 #include "core/render/integrator.h"
 #include "core/scene/environment.h"
+
+// File format (pathview:partial = 1), an ordinary scanline EXR that any viewer shows as the mean image:
+//   R, G, B            FLOAT  the mean (what read_exr() returns)
+//   sum_hi.R .. sum_lo.B, sumsq_hi.*, sumsq_lo.*, half_hi.*, half_lo.*
+//                      UINT   Film's double accumulators (sum, sum of squares, first half-buffer sum) stored
+//                             exactly: the high and low 32 bits of each IEEE-754 double. EXR has no double
+//                             channels; a float hi + float lo pair keeps only 48 of the 53 significant bits, and a
+//                             float mean + count loses the sum's low bits, so neither merges exactly.
+//   count.n, count.half UINT  accepted samples per pixel, and of those in the first half-buffer
+// String attributes: pathview:version, pathview:scene_hash (content of geometry, materials, textures and
+// environment), pathview:settings, pathview:partial:camera (exact), pathview:samples ("0:16,32:16"), pathview:spp,
+// pathview:rel_mse_estimate (Film::estimated_rel_mse of the file's sums), plus informational ones (scene path,
+// seconds, rays, dropped samples) that a merge sums or keeps.
+//
+// The concerns live beside this file: the sample ranges (partial_ranges.h), the identity's text: version, settings,
+// camera (render_identity.h), the scene hash (scene_hash.h) and the merge (partial_merge.h). This header includes
+// all but the merge.
 
 namespace pv {
 

@@ -1,6 +1,13 @@
-// core/render/light_tree.h: a bounding volume hierarchy over the finite emitters (the emissive triangles) for choosing
-// one in proportion to an estimate of its contribution at a shading point (Conty Estevez and Kulla 2018, "Importance
-// Sampling of Many Lights with Adaptive Tree Splitting", in the form of pbrt-v4's BVHLightSampler). Each node bounds
+// core/render/light_tree.h: a bounding volume hierarchy over the emissive triangles for choosing one in proportion
+// to an estimate of its contribution at a shading point (Conty Estevez and Kulla 2018, in the form of pbrt-v4's
+// BVHLightSampler), with the exact probability of each pick for MIS.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/base/math.h"
+
 // its emitters' positions (a box), total power (phi) and emission directions (a cone: axis w, spread theta_o of the
 // normals about w, theta_e the further angle each emits over, pi/2 for a surface). A pick descends from the root,
 // choosing a child with probability proportional to its importance for the shading point p and normal n
@@ -13,12 +20,6 @@
 // a pick takes a third of the binary tree's steps. Choosing among the descendants by their own bounds, tighter than
 // their ancestors', also lowers the error per sample (many-lights: 0.82x that of 4 lanes, 0.61x that of the binary
 // tree) and the dead ends.
-#pragma once
-
-#include <cstdint>
-#include <vector>
-
-#include "core/base/math.h"
 
 // log2 of the light tree's node width: 3, eight lanes (2, four lanes, also works: a cheaper step, a worse pick).
 #ifndef PV_LIGHT_TREE_WIDTH_LOG2

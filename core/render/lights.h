@@ -1,15 +1,6 @@
-// core/render/lights.h: emissive triangles as area lights. A triangle is chosen with probability proportional to its
-// power (luminance(Le) * area, doubled when two-sided), quantised by an exact alias table (DiscreteDistribution:
-// pmf() is the probability sample() picks it with). A point on it is then chosen uniformly in the solid angle it
-// subtends at the shading point (core/sampling/spherical_triangle.h), pdf_w = pmf / solid_angle, where the point is
-// within kSphericalNearRadii of the triangle and that solid angle lies in [kMinSphericalSolidAngle,
-// kMaxSphericalSolidAngle]; elsewhere uniformly by area, pdf_w = pmf / area * d^2 / |cos_light|. pdf() applies the
-// same rule to the same point, so the density MIS weighs a BSDF-found emitter with is exactly the rule's.
-// An emitter with an alpha cut-out (map_d, or map_Kd's alpha) emits alpha * Le at each point, light-sampled or hit.
-// An emitter with a glTF emissiveTexture emits Le x texel RGB at each point (core/render/shading.h's emitted_at); its
-// power is luminance(Le x the texture's mean RGB) x area (any positive pmf is unbiased; the mean favours bright
-// textures). Zero-area and non-emissive triangles are never chosen, nor are emitters whose share of the power is below
-// about 2^-24 (their pmf is 0): the integrator leaves those to BSDF sampling, as it does any emitter of pdf 0.
+// core/render/lights.h: emissive triangles as area lights: a triangle picked by power (an exact alias table) or by
+// the light tree (core/render/light_tree.h), a point on it by solid angle near it and by area elsewhere, and the
+// exact density of that rule for MIS.
 #pragma once
 
 #include <algorithm>
@@ -22,6 +13,19 @@
 #include "core/sampling/warp.h"
 #include "core/scene/camera.h"
 #include "core/scene/scene.h"
+
+// The rule: a triangle is chosen with probability proportional to its
+// power (luminance(Le) * area, doubled when two-sided), quantised by an exact alias table (DiscreteDistribution:
+// pmf() is the probability sample() picks it with). A point on it is then chosen uniformly in the solid angle it
+// subtends at the shading point (core/sampling/spherical_triangle.h), pdf_w = pmf / solid_angle, where the point is
+// within kSphericalNearRadii of the triangle and that solid angle lies in [kMinSphericalSolidAngle,
+// kMaxSphericalSolidAngle]; elsewhere uniformly by area, pdf_w = pmf / area * d^2 / |cos_light|. pdf() applies the
+// same rule to the same point, so the density MIS weighs a BSDF-found emitter with is exactly the rule's.
+// An emitter with an alpha cut-out (map_d, or map_Kd's alpha) emits alpha * Le at each point, light-sampled or hit.
+// An emitter with a glTF emissiveTexture emits Le x texel RGB at each point (core/render/shading.h's emitted_at); its
+// power is luminance(Le x the texture's mean RGB) x area (any positive pmf is unbiased; the mean favours bright
+// textures). Zero-area and non-emissive triangles are never chosen, nor are emitters whose share of the power is below
+// about 2^-24 (their pmf is 0): the integrator leaves those to BSDF sampling, as it does any emitter of pdf 0.
 
 namespace pv {
 

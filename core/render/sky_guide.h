@@ -1,5 +1,16 @@
-// core/render/sky_guide.h: a learned sky distribution for next-event estimation (issue #13, interiors lit through
-// openings; docs/sky-guide.md). In a room lit through a window, most sky directions that the sky's own sampling
+// core/render/sky_guide.h: a learned sky distribution for next-event estimation in interiors lit through openings
+// (docs/sky-guide.md): a piecewise-constant density over the sphere of the sky light that reaches the scene, which
+// TraceableScene mixes into the sky's share of environment sampling. Trained by core/render/sky_guide_training.h.
+#pragma once
+
+#include <algorithm>
+#include <memory>
+#include <vector>
+
+#include "core/base/math.h"
+#include "core/sampling/distribution.h"
+
+// Why: in a room lit through a window, most sky directions that the sky's own sampling
 // picks end on a wall; the directions visible through the opening are a small part of the sphere. A short training
 // pre-pass (train_sky_guide, core/render/sky_guide_training.h) traces camera paths, sends shadow rays toward sky
 // directions drawn from the sky's own distribution at their vertices, and accumulates, per direction bin, the sky light
@@ -11,14 +22,6 @@
 // Bins: kBands bands equal in y = cos(theta) (world +y up) times kColumns columns equal in phi = atan2(-z, x), so
 // every bin has the same solid angle 4 pi / kBins and pdf(dir) = P(bin(dir)) kBins / (4 pi). bin() is the one
 // direction-to-bin function, used by pdf() and by the training.
-#pragma once
-
-#include <algorithm>
-#include <memory>
-#include <vector>
-
-#include "core/base/math.h"
-#include "core/sampling/distribution.h"
 
 namespace pv {
 

@@ -1,9 +1,6 @@
 // core/render/sky_guide_training.h: the sky guide's training pre-pass (docs/sky-guide.md), what it measures for
 // `--sky-guide auto`, and the guide's lifecycle in a render (SkyGuideLifecycle, which the Renderer calls). The guide
-// itself, what the scene reads, is core/render/sky_guide.h. The training walks its camera paths with the integrator's
-// PathWalker (core/render/integrator.h), watching each vertex that takes a light sample (a PathObserver): there it
-// sends shadow rays toward sky directions drawn from the sky's own distribution and accumulates, per direction bin
-// and cell, the sky light that actually arrives (luminance of beta f |cos| Le V / pdf).
+// itself, what the scene reads, is core/render/sky_guide.h.
 #pragma once
 
 #include <memory>
@@ -13,6 +10,10 @@
 #include "core/render/sky_guide.h"
 #include "core/render/traceable_scene.h"
 #include "core/scene/camera.h"
+
+// PathWalker (core/render/integrator.h), watching each vertex that takes a light sample (a PathObserver): there it
+// sends shadow rays toward sky directions drawn from the sky's own distribution and accumulates, per direction bin
+// and cell, the sky light that actually arrives (luminance of beta f |cos| Le V / pdf).
 
 namespace pv {
 

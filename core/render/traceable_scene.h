@@ -1,9 +1,21 @@
 // core/render/traceable_scene.h: the scene prepared for tracing, in one object (after Tungsten's TraceableScene): the
-// Scene, its current (possibly edited) materials, the BVH over it, the emissive triangles as a light set and the
-// environment (sky and sun). It answers the integrator's and the picker's queries: closest hit, occlusion, the
-// surface under a film position, and one light interface over triangles, environment and sun together, with the
-// probabilities of choosing between them inside it.
-//
+// Scene, its current materials, the BVH, the emissive triangles, the environment, portals and sky guide. It answers
+// closest hit, occlusion and the picker's queries, and is one light interface over all of its lights.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/render/accel.h"
+#include "core/render/lights.h"
+#include "core/render/sky_guide.h"
+#include "core/scene/camera.h"
+#include "core/scene/environment.h"
+#include "core/scene/scene.h"
+
 // Lights: next-event estimation picks the environment with probability p_env (0 when it is black, 1 when there are
 // no emissive triangles, else 1/2; the environment itself chooses between sky and sun) and otherwise a triangle by
 // power (LightSet). sample_light's pdf, and light_pdf_hit / light_pdf_escape, include that selection probability,
@@ -24,20 +36,6 @@
 // guide nothing changes.
 //
 // Read-only and shared by all render threads; set_materials and set_environment are not concurrent with queries.
-#pragma once
-
-#include <functional>
-#include <limits>
-#include <memory>
-#include <optional>
-#include <vector>
-
-#include "core/render/accel.h"
-#include "core/render/lights.h"
-#include "core/render/sky_guide.h"
-#include "core/scene/camera.h"
-#include "core/scene/environment.h"
-#include "core/scene/scene.h"
 
 namespace pv {
 
