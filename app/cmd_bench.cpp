@@ -34,14 +34,14 @@ std::shared_ptr<Scene> load_bench_scene(const CommonOptions& o) {
     return std::make_shared<Scene>(load_scene(scene_path(o)));
 }
 
-// --light-tree: builds the light tree (core/render/light_tree.h) over 10^2..10^5 random emissive triangles (a cube of
+// --light-tree: builds the light tree (core/render/light_tree.h) over 10^2..10^6 random emissive triangles (a cube of
 // side 10, sides 0.01..0.1, random orientations, powers over four decades) and prints the build's time (the best of a
 // few builds, CPU of this thread) and memory. Figures, no assertions.
 void light_tree_scaling() {
     std::printf("## pathview bench --light-tree: build time and memory of the light tree\n\n");
     std::printf("| emissive triangles | nodes | depth | build ms (best of %d) | memory MiB | bytes per emitter |\n", 3);
     std::printf("|---:|---:|---:|---:|---:|---:|\n");
-    for (const int n : {100, 1000, 10000, 100000}) {
+    for (const int n : {100, 1000, 10000, 100000, 1000000}) {
         Pcg32 g(uint64_t(n), 1);
         std::vector<LightBounds> bounds;
         bounds.reserve(size_t(n));
@@ -183,7 +183,7 @@ void add_bench_command(CLI::App& app) {
                   "tracer's fraction of it (uses --light-sampling/--mis/--rr/--sampler)");
     cmd->add_flag("--rays-only", o->rays_only, "Only the ray-rate section");
     cmd->add_flag("--light-tree", o->light_tree,
-                  "Only the light tree's build time and memory for 10^2..10^5 random emissive triangles");
+                  "Only the light tree's build time and memory for 10^2..10^6 random emissive triangles");
     cmd->add_flag("--scaling", o->scaling, "Ray-rate section at 1 thread as well as --threads");
     cmd->add_option("--rays-seconds", o->rays_seconds, "Seconds of path tracing per round of the ray-rate section")
         ->check(CLI::Range(0.01, 1e6))
