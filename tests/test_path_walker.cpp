@@ -88,9 +88,9 @@ TEST(PathWalker, InterleavedPathsMatchOneAtATime) {
 
 // Interleaving where the hit data outgrows the caches, not on a small scene (where it only costs the switching).
 // An observer (PathObserver: the sky guide's training watches its paths with one) changes nothing in the path, sees
-// every light sample it adds: without MIS and without delta BSDFs, a path's radiance is the emission its camera ray sees (the same path with
-// max_depth 0) plus the light samples' radiance that light() reports, in the order they were added; and vertex()
-// comes at least once before each light sample, with a throughput no larger than the path's start.
+// every light sample it adds: without MIS and without delta BSDFs, a path's radiance is the emission its camera ray
+// sees (the same path with max_depth 0) plus the light samples' radiance that light() reports, in the order they were
+// added; and vertex() comes at least once before each light sample, with a throughput no larger than the path's start.
 TEST(PathWalker, ObserverSeesEveryLightSampleAndChangesNothing) {
     struct Watch final : PathObserver {
         vec3 sum{0.f};
