@@ -145,17 +145,14 @@ struct PixelEstimate {
 
 PixelEstimate estimate(const FilmPixel& px) {
     PixelEstimate e;
-    const uint32_t n_odd = px.n - px.n_even;
-    e.halves = px.n_even > 0 && n_odd > 0;
+    e.halves = px.n_even > 0 && px.n_odd() > 0;
     for (int c = 0; c < 3; ++c) {
-        e.mean[c] = px.n ? px.sum[c] / double(px.n) : 0.0;
+        e.mean[c] = px.n ? px.mean(c) : 0.0;
         if (e.halves) {
-            e.even[c] = px.sum_even[c] / double(px.n_even);
-            e.odd[c] = (px.sum[c] - px.sum_even[c]) / double(n_odd);
+            e.even[c] = px.even_mean(c);
+            e.odd[c] = px.odd_mean(c);
         }
-        if (px.n > 1)
-            e.var[c] =
-                std::max(0.0, (px.sum_sq[c] - double(px.n) * e.mean[c] * e.mean[c]) / double(px.n - 1)) / double(px.n);
+        if (px.n > 1) e.var[c] = px.sample_variance(c) / px.n;
     }
     return e;
 }

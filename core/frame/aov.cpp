@@ -122,11 +122,9 @@ std::vector<ExrLayer> film_layers(const Film& film) {
         for (int x = 0; x < film.width(); ++x, ++i) {
             const FilmPixel& px = film.pixel(x, y);
             count.data[size_t(i)] = float(px.n);
-            const uint32_t n_odd = px.n - px.n_even;
             for (int c = 0; c < 3; ++c) {
-                const double se = px.sum_even[c], so = px.sum[c] - px.sum_even[c];
-                even.data[size_t(i) * 3 + size_t(c)] = px.n_even ? float(se / px.n_even) : 0.f;
-                odd.data[size_t(i) * 3 + size_t(c)] = n_odd ? float(so / n_odd) : 0.f;
+                even.data[size_t(i) * 3 + size_t(c)] = px.n_even ? float(px.even_mean(c)) : 0.f;
+                odd.data[size_t(i) * 3 + size_t(c)] = px.n_odd() ? float(px.odd_mean(c)) : 0.f;
             }
         }
     return {std::move(count), std::move(var), std::move(even), std::move(odd)};

@@ -51,14 +51,13 @@ Planes halves(const Film& film, const FeatureImage& f) {
     for (int y = 0, i = 0; y < p.h; ++y)
         for (int x = 0; x < p.w; ++x, ++i) {
             const FilmPixel& px = film.pixel(x, y);
-            const uint32_t na = px.n_even, nb = px.n - px.n_even;
+            const uint32_t na = px.n_even, nb = px.n_odd();
             if (na < 2 || nb < 2) continue;
             for (int c = 0; c < 3; ++c) {
-                const double ma = px.sum_even[c] / na, mb = (px.sum[c] - px.sum_even[c]) / nb, m = px.sum[c] / px.n;
-                p.a[size_t(i)][c] = float(ma);
-                p.b[size_t(i)][c] = float(mb);
+                p.a[size_t(i)][c] = float(px.even_mean(c));
+                p.b[size_t(i)][c] = float(px.odd_mean(c));
                 // Each half's variance of its mean from the pooled sample variance (halves estimate the same mean).
-                const double s2 = std::max(0.0, (px.sum_sq[c] - px.n * m * m) / (px.n - 1));
+                const double s2 = px.sample_variance(c);
                 p.var_a[size_t(i)][c] = float(s2 / na);
                 p.var_b[size_t(i)][c] = float(s2 / nb);
             }

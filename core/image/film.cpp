@@ -55,11 +55,7 @@ Image Film::variance_of_mean() const {
     for (size_t i = 0; i < m_pixels.size(); ++i) {
         const FilmPixel& px = m_pixels[i];
         for (int c = 0; c < 3; ++c) {
-            double v = 0.0;
-            if (px.n > 1) {
-                const double m = px.sum[c] / px.n;
-                v = std::max(0.0, (px.sum_sq[c] - px.n * m * m) / (px.n - 1)) / px.n;
-            }
+            const double v = px.n > 1 ? px.sample_variance(c) / px.n : 0.0;
             out.rgb[i * 3 + c] = static_cast<float>(v);
         }
     }
@@ -67,13 +63,10 @@ Image Film::variance_of_mean() const {
 }
 
 std::optional<double> pixel_rel_mse(const FilmPixel& px) {
-    const uint32_t n_odd = px.n - px.n_even;
-    if (px.n_even == 0 || n_odd == 0) return std::nullopt;
+    if (px.n_even == 0 || px.n_odd() == 0) return std::nullopt;
     double acc = 0.0;
     for (int c = 0; c < 3; ++c) {
-        const double a = px.sum_even[c] / px.n_even;
-        const double b = (px.sum[c] - px.sum_even[c]) / n_odd;
-        const double m = px.sum[c] / px.n;
+        const double a = px.even_mean(c), b = px.odd_mean(c), m = px.mean(c);
         acc += 0.25 * (a - b) * (a - b) / (m * m + 0.01);
     }
     return acc / 3.0;

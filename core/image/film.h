@@ -4,6 +4,7 @@
 // must be independent estimators: both samplers guarantee it, core/sampling/sampler.h).
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <optional>
 #include <vector>
@@ -12,12 +13,24 @@
 
 namespace pv {
 
+// One pixel's sums. The statistics below are the only place they are turned into means and variances (the film's
+// views, the AOV layers, NFOR's half buffers); each needs the counts its comment says.
 struct FilmPixel {
     double sum[3] = {0, 0, 0};
     double sum_sq[3] = {0, 0, 0};
     double sum_even[3] = {0, 0, 0};
     uint32_t n = 0;       // accepted samples
     uint32_t n_even = 0;  // of which even-indexed
+
+    uint32_t n_odd() const { return n - n_even; }
+    double mean(int c) const { return sum[c] / n; }                            // n > 0
+    double even_mean(int c) const { return sum_even[c] / n_even; }             // n_even > 0
+    double odd_mean(int c) const { return (sum[c] - sum_even[c]) / n_odd(); }  // n_odd() > 0
+    // The unbiased sample variance of channel c, pooled over both halves (they estimate the same mean); n > 1.
+    double sample_variance(int c) const {
+        const double m = mean(c);
+        return std::max(0.0, (sum_sq[c] - n * m * m) / (n - 1));
+    }
 };
 
 // A linear RGB float image, row-major from the top-left, 3 floats per pixel.
