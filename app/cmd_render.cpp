@@ -16,10 +16,9 @@
 #include "core/base/error.h"
 #include "core/base/file_io.h"
 #include "core/frame/aov.h"
-#include "core/frame/denoise_atrous.h"
-#include "core/frame/denoise_nfor.h"
 #include "core/frame/partial.h"
 #include "core/frame/partial_merge.h"
+#include "core/frame/render_output.h"
 #include "core/frame/render_plan.h"
 #include "core/frame/renderer.h"
 #include "core/image/image_io.h"
@@ -83,19 +82,6 @@ void parse_scene_flags(const std::string& flags, const std::string& what, Common
     parsed.scene = c.scene;
     c = parsed;
 }
-
-// The largest root-mean-square sample value of any pixel and channel (sqrt(sum_sq / n)): the scale of the squares
-// that the Variance layer and the denoisers compute in float.
-double largest_rms(const Film& film) {
-    double largest = 0.0;
-    for (const FilmPixel& px : film.pixels())
-        if (px.n)
-            for (int c = 0; c < 3; ++c) largest = std::max(largest, px.sum_sq[c] / px.n);
-    return std::sqrt(largest);
-}
-// Beyond it NFOR's window sums of squared colours overflow float (an all-black image at 1e18) and the Variance
-// layer holds Inf: 1e16 keeps squares below 1e32, a factor 1e6 from FLT_MAX for the sums.
-constexpr double kMaxDenoiseRms = 1e16;
 
 // The progress bar's text: "64 spp  1.2 s".
 std::string spp_and_seconds(uint32_t spp, double seconds) {
@@ -208,71 +194,19 @@ void render_passes(Renderer& renderer, const RenderPlan& plan, bool quiet) {
     bar.finish();
 }
 
-// What is written: the image (denoised with --denoise, exposed), its EXR layers and metadata.
-struct Output {
-    Image image;
-    std::vector<ExrLayer> layers;
-    Metadata metadata;
-    double aov_seconds = 0.0;
-    NforStats nfor;
-};
-
-// With --aovs or --denoise: the first-hit feature pass after the render (the render loop itself is unchanged), the
-// denoised image and the feature layers. Refuses a film too bright for the float statistics.
-void add_features(const RenderOptions& o, const Renderer& renderer, Output& out, Image& noisy) {
-    const double rms = largest_rms(renderer.film());
-    if (rms > kMaxDenoiseRms) {
-        char msg[400];
-        std::snprintf(msg, sizeof msg,
-                      "%s: the brightest pixel's RMS radiance is %.3g, beyond the %.0e that the Variance layer and "
-                      "the denoisers compute in float; scale the emission, --env-strength or --sun-irradiance down "
-                      "(without %s the render is written as is)",
-                      o.denoise ? "--denoise" : "--aovs", rms, kMaxDenoiseRms, o.denoise ? "--denoise" : "--aovs");
-        throw Error(msg);
-    }
-    const auto aov_start = std::chrono::steady_clock::now();
-    const FeatureImage features = render_features(renderer.traceable(), renderer.camera(), out.image.width,
-                                                  out.image.height, 8, renderer.settings().seed);
-    out.aov_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - aov_start).count();
-    if (o.denoise) {
-        noisy = out.image;
-        if (o.denoiser == "atrous") {
-            const auto t0 = std::chrono::steady_clock::now();
-            out.image = denoise_atrous(noisy, renderer.film().variance_of_mean(), features);
-            out.nfor.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        } else {
-            out.image = denoise_nfor(renderer.film(), features, &out.nfor);
-        }
-        out.metadata["pathview:denoiser"] = o.denoiser;
-        out.metadata["pathview:denoise_seconds"] = std::to_string(out.nfor.seconds);
-    }
-    if (o.aovs)
-        for (ExrLayer& l : feature_layers(features)) out.layers.push_back(std::move(l));
-}
-
-// The rendered film as the output: mean, features and denoising, exposure, layers.
-Output make_output(const RenderOptions& o, const Renderer& renderer) {
-    Output out;
-    out.image = renderer.film().mean();
-    out.metadata = render_metadata(renderer);
-    Image noisy;
-    if (o.aovs || o.denoise) add_features(o, renderer, out, noisy);
-    if (o.exposure != 0.f)
-        for (Image* im : {&out.image, &noisy})
-            for (float& v : im->rgb) {
-                // Overflow saturates: a file never holds Inf (the film's means are finite and non-negative).
-                const float s = v * std::exp2(o.exposure);
-                v = std::isfinite(s) ? s : std::numeric_limits<float>::max();
-            }
-    out.layers.insert(out.layers.begin(), rgb_layer(out.image));
-    if (o.denoise) out.layers.push_back(rgb_layer(noisy, "noisy"));
-    if (o.aovs)
-        for (ExrLayer& l : film_layers(renderer.film())) out.layers.push_back(std::move(l));
+// The output chain's options from the command line's.
+OutputOptions output_options(const RenderOptions& o) {
+    OutputOptions out;
+    out.aovs = o.aovs;
+    out.denoise = o.denoise;
+    out.denoiser = o.denoiser == "atrous" ? Denoiser::Atrous : Denoiser::Nfor;
+    out.exposure = o.exposure;
     return out;
 }
 
 // Writes every -o (a partial render's EXRs as partial files); returns their names, comma-separated.
-std::string write_outputs(const RenderOptions& o, const Renderer& renderer, const RenderPlan& plan, const Output& out) {
+std::string write_outputs(const RenderOptions& o, const Renderer& renderer, const RenderPlan& plan,
+                          const RenderOutput& out) {
     std::optional<PartialRender> part;
     if (plan.samples) {
         std::vector<SampleRange> ranges{{plan.samples->start, renderer.stats().spp}};
@@ -298,7 +232,8 @@ std::string write_outputs(const RenderOptions& o, const Renderer& renderer, cons
 
 // The summary lines: the feature pass and denoiser (stderr), then the render's figures, region, sky guide and
 // adaptive sampling (stdout).
-void print_summary(const RenderOptions& o, const Renderer& renderer, const Output& out, const std::string& written) {
+void print_summary(const RenderOptions& o, const Renderer& renderer, const RenderOutput& out,
+                   const std::string& written) {
     if ((o.aovs || o.denoise) && !o.quiet)
         std::fprintf(stderr, "pathview: feature pass (albedo, normal, depth; 8 rays per pixel) %.2f s\n",
                      out.aov_seconds);
@@ -374,7 +309,7 @@ void run(RenderOptions& o) {
     const std::unique_ptr<Renderer> renderer = build_renderer(scene, o, tty, load_seconds);
     start_render(*renderer, o, plan, camera, region);
     render_passes(*renderer, plan, o.quiet);
-    const Output out = make_output(o, *renderer);
+    const RenderOutput out = finish_render(*renderer, output_options(o));
     print_summary(o, *renderer, out, write_outputs(o, *renderer, plan, out));
 }
 

@@ -7,7 +7,7 @@
 #include "app/bench/raybench.h"
 #include "core/frame/aov.h"
 #include "core/frame/denoise_atrous.h"
-#include "core/frame/denoise_nfor.h"
+#include "core/frame/render_output.h"
 
 namespace pv::app {
 
@@ -95,7 +95,8 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
                 smp.atrous_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
                 smp.rel_mse_atrous = compare_images(atrous_image, reference).rel_mse;
                 NforStats nfor;
-                smp.rel_mse_nfor = compare_images(denoise_nfor(renderer.film(), features, &nfor), reference).rel_mse;
+                smp.rel_mse_nfor =
+                    compare_images(denoise_film(renderer.film(), features, Denoiser::Nfor, &nfor), reference).rel_mse;
                 smp.nfor_seconds = nfor.seconds;
             }
             smp.rays = double(st.rays);

@@ -10,7 +10,7 @@
 
 #include "core/base/error.h"
 #include "core/frame/denoise_atrous.h"
-#include "core/frame/denoise_nfor.h"
+#include "core/frame/render_output.h"
 #include "core/image/metrics.h"
 
 namespace pv {
@@ -343,11 +343,10 @@ void ProgressiveRenderer::run_nfor(uint64_t generation) {
     const Film& film = m_renderer.film();
     const uint32_t spp = m_renderer.stats().spp;
     const auto start = std::chrono::steady_clock::now();
-    // The features `pathview render --denoise` uses (8 samples a pixel), so the viewer shows what it would write.
-    const FeatureImage features = render_features(m_renderer.traceable(), m_renderer.camera(), film.width(),
-                                                  film.height(), 8, m_renderer.settings().seed, &m_nfor_cancel);
+    // The features and the filter of `pathview render --denoise` (core/frame/render_output.h): what it would write.
+    const FeatureImage features = camera_features(m_renderer, &m_nfor_cancel);
     if (m_nfor_cancel.load()) return;
-    Image image = denoise_nfor(film, features, nullptr, &m_nfor_cancel);
+    Image image = denoise_film(film, features, Denoiser::Nfor, nullptr, &m_nfor_cancel);
     if (m_nfor_cancel.load() || image.width == 0) return;
     m_denoised_image = std::move(image);
     m_denoised_nfor = true;
