@@ -3,7 +3,7 @@
 
     python3 scripts/make_gltf_cornell.py [OUT.gltf]        (default: /tmp/cornell-box.gltf)
 
-The same conversion as tests/test_gltf_loader.cpp's cornell_as_gltf: the OBJ's vertices, its faces fanned into
+The same conversion as tests/load/test_gltf_loader.cpp's cornell_as_gltf: the OBJ's vertices, its faces fanned into
 triangles as the OBJ loader does, one primitive per material with baseColorFactor = Kd, metallic 0 and
 KHR_materials_specular factor 0 (a pure Lambertian base: the OBJ's BSDF), the light's Ke as emissiveFactor x
 KHR_materials_emissive_strength (one-sided, as the OBJ scene's), and scene.json's camera as a camera node.

@@ -121,7 +121,7 @@ void Accel::Impl::build(const std::function<void(double)>* progress) {
     scene = rtcNewScene(device);
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_MEDIUM);
     // Robust mode: without it Embree's faster triangle test reports false hits on slivers whose vertices span
-    // many orders of magnitude, even from origins offset beyond p's error bound (tests/test_reintersection.cpp).
+    // many orders of magnitude, even from origins offset beyond p's error bound (tests/render/test_reintersection.cpp).
     // It also makes Embree 3.13 ignore RTC_BUILD_QUALITY_HIGH (no spatial splits: docs/ray-speed.md).
     rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
     // Split the triangles by whether their material has a cut-out; a geometry holding all of them keeps the

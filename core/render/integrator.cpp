@@ -317,7 +317,7 @@ PV_STAGE PathWalker::Next PathWalker::continue_path(Vertex& v, const Draws& d) {
         // A mirror or glass direction about the shading normal that crosses the facet on the wrong side (at a
         // smooth-shaded silhouette): the surface itself is the facet here, so take this sample about the geometric
         // normal. Each sample's weight stays the lobe's own (1 reflected, 1/eta^2 refracted), so no energy is lost or
-        // gained, where ending the path darkened the rim (tests/test_glass_furnace.cpp).
+        // gained, where ending the path darkened the rim (tests/scene/test_glass_furnace.cpp).
         const Frame geometric(v.ng);
         bs = detail::sample_other(*v.bsdf, geometric.to_local(v.wo_world), d.u_lobe, d.u_bsdf);  // out of line: rare
         if (!bs) return Next::End;

@@ -44,7 +44,7 @@ inline size_t sample_alias_table(const AliasSlot* slots, size_t n, float u, floa
 // in float without a division: float(cell) + offset is the sum rounded once to float, which is what the double sum
 // rounds to (it is exact unless offset has bits below 2^-53 of it, and those cannot reach a float rounding
 // midpoint, where offset's own ulp is at least 2^-47 of the sum), and scaling by 1/n is exact
-// (tests/test_environment_sampling.cpp compares the two).
+// (tests/scene/test_environment_sampling.cpp compares the two).
 inline float cell_to_unit_reference(size_t cell, float offset, size_t n) {
     return std::min(float((double(cell) + double(offset)) / double(n)), kOneMinusEpsilon);
 }

@@ -8,7 +8,7 @@ namespace pv {
 
 // (cos x, sin x) for |x| <= pi/4 (a little beyond is fine): Cephes' sinf/cosf minimax polynomials (Moshier,
 // Cephes Math Library, sinf.c), degree 7 and 8. Max abs error vs double-precision sin/cos < 6e-8 (half an ulp
-// of 1) over the range; tests/test_bsdf_fast.cpp checks 1.2e-7. Replaces libm sincosf, whose range reduction
+// of 1) over the range; tests/scene/test_bsdf_fast.cpp checks 1.2e-7. Replaces libm sincosf, whose range reduction
 // the warps below never need.
 inline vec2 cos_sin_reduced(float x) {
     const float z = x * x;

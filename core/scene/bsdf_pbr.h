@@ -21,7 +21,7 @@
 //          recoloured and scaled as KHR_materials_specular asks (specular = 1, specular_color = 1: F = F_exact).
 // The Lambert base is weighted by the macro-surface Fresnel of both directions (not the spec's 1 - F(v.h), which
 // can reflect more than 1 at grazing incidence): reciprocal, and with the specular layer's albedo the sum stays <= 1
-// (tests/test_bsdf_pbr.cpp, white furnace). alpha = roughness^2 (>= kMinAlpha); roughness 0 makes the reflection
+// (tests/scene/test_bsdf_pbr.cpp, white furnace). alpha = roughness^2 (>= kMinAlpha); roughness 0 makes the reflection
 // and transmission lobes delta lobes. Only lobes whose parameters are non-zero are present (lobes below).
 // Solid transmission (thin_walled false) is oriented like Dielectric: wo.z < 0 is inside, where the relative IOR is
 // 1 / ior; refracted radiance is scaled by 1/eta^2 as Dielectric's is. Other configurations are two-sided.

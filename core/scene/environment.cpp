@@ -23,7 +23,7 @@ bool sun_shines(const EnvironmentSettings& s) {
 // atan2(y, x) in [-pi, pi] from an odd degree-11 minimax polynomial for atan on [0, 1] (the coefficients often
 // quoted after Abramowitz and Stegun 4.4.47's form). It only picks the candidate texel, which exact edge tests then
 // correct, so its error just has to stay below the margin: max |error| 2.0e-6 rad measured against double atan2
-// over 2e7 angles; kAtanMaxError leaves a factor 2 (tests/test_environment_sampling.cpp checks it).
+// over 2e7 angles; kAtanMaxError leaves a factor 2 (tests/scene/test_environment_sampling.cpp checks it).
 constexpr float kAtanMaxError = 4e-6f;
 float atan2_approx(float y, float x) {
     const float ax = std::fabs(x), ay = std::fabs(y);
