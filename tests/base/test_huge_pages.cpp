@@ -1,6 +1,6 @@
-// tests/base/test_huge_pages.cpp: the regions of core/base/huge_pages.h (alignment, size, the kernel's MADV_HUGEPAGE flag on
-// the mapping), and the data moved into them: a scene's texels (pack_texels) keep their lookups bit for bit and stay
-// valid through copies, moves and the end of the vector they were packed in; the packed hit records of a
+// tests/base/test_huge_pages.cpp: the regions of core/base/huge_pages.h (alignment, size, the kernel's MADV_HUGEPAGE
+// flag on the mapping), and the data moved into them: a scene's texels (pack_texels) keep their lookups bit for bit and
+// stay valid through copies, moves and the end of the vector they were packed in; the packed hit records of a
 // TraceableScene are pack_triangles' records in a region.
 #include <gtest/gtest.h>
 

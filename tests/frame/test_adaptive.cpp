@@ -1,5 +1,5 @@
-// tests/frame/test_adaptive.cpp: adaptive sampling (the noise threshold, and allocation: AdaptiveSettings::allocate) and
-// the stratified sample-count schedule (core/frame/adaptive.h, issue 13).
+// tests/frame/test_adaptive.cpp: adaptive sampling (the noise threshold, and allocation: AdaptiveSettings::allocate)
+// and the stratified sample-count schedule (core/frame/adaptive.h, issue 13).
 #include <gtest/gtest.h>
 
 #include <cstring>

@@ -1,5 +1,5 @@
-// tests/frame/test_shard.cpp: partial renders (core/frame/partial.h). Four shards of a 64-spp render merged through their
-// files equal the single render (the stored double sums are exact; only the order of the double additions
+// tests/frame/test_shard.cpp: partial renders (core/frame/partial.h). Four shards of a 64-spp render merged through
+// their files equal the single render (the stored double sums are exact; only the order of the double additions
 // differs, so the sums agree within the recursive-summation bound and the float means bit for bit or within
 // one float ulp); a resumed part equals the single render bit for bit; the file round-trips exactly; bad parts
 // (overlapping, mismatched, truncated, another scene or version, not a partial) give one-line errors naming the file.

@@ -1,7 +1,7 @@
-// tests/render/test_portals.cpp: light portals (Scene::portals, core/render/traceable_scene.h): portal direction sampling
-// against its pdf (chi-square), the environment mixture with portals integrating to 1 and matching its samples' pdfs,
-// the same image with and without a portal (in the opening, and misplaced) within a confidence interval from the sample
-// variance, and the scene file's "portals" key with its errors.
+// tests/render/test_portals.cpp: light portals (Scene::portals, core/render/traceable_scene.h): portal direction
+// sampling against its pdf (chi-square), the environment mixture with portals integrating to 1 and matching its
+// samples' pdfs, the same image with and without a portal (in the opening, and misplaced) within a confidence interval
+// from the sample variance, and the scene file's "portals" key with its errors.
 #include <gtest/gtest.h>
 
 #include <filesystem>

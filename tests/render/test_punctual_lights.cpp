@@ -1,5 +1,5 @@
-// tests/render/test_punctual_lights.cpp: glTF KHR_lights_punctual lights by next-event estimation. A Lambertian plane of
-// albedo rho under a light reflects L = rho E / pi, E the irradiance the light gives: I cos(theta) / d^2 for a point
+// tests/render/test_punctual_lights.cpp: glTF KHR_lights_punctual lights by next-event estimation. A Lambertian plane
+// of albedo rho under a light reflects L = rho E / pi, E the irradiance the light gives: I cos(theta) / d^2 for a point
 // light (times the extension's range falloff clamp(1 - (d / range)^4, 0, 1)^2), the same times the cone's smooth step
 // t^2, t = clamp((cos - cos_outer) / (cos_inner - cos_outer), 0, 1), for a spot, and I cos(theta) for a
 // directional light, which gives the same picture as a sun of that irradiance. A camera with a narrow field of view

@@ -1,5 +1,5 @@
-// tests/render/test_ray_speed.cpp: what the ray-speed work (issue 13, docs/ray-speed.md) must not change: a texture kept
-// as 8-bit codes looks up the same values as the floats they decode to, with the same repeat wrap at any uv; alpha
+// tests/render/test_ray_speed.cpp: what the ray-speed work (issue 13, docs/ray-speed.md) must not change: a texture
+// kept as 8-bit codes looks up the same values as the floats they decode to, with the same repeat wrap at any uv; alpha
 // cut-outs follow the renderer's edited materials (issue 10, item 5) with opaque and cut-out triangles split into
 // two Embree geometries.
 #include <gtest/gtest.h>

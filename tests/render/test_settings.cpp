@@ -1,6 +1,6 @@
-// tests/render/test_settings.cpp: the one table of RenderSettings' fields (core/render/settings.h). It lists every field of
-// the struct (counted independently of the table), each once; two settings that differ in any one field compare
-// unequal, describe differently, and read back from the partial renders' text as themselves; the text of the
+// tests/render/test_settings.cpp: the one table of RenderSettings' fields (core/render/settings.h). It lists every
+// field of the struct (counted independently of the table), each once; two settings that differ in any one field
+// compare unequal, describe differently, and read back from the partial renders' text as themselves; the text of the
 // defaults and of strings from before the sky guide and the light tree is unchanged (existing partial files read).
 #include <gtest/gtest.h>
 

@@ -1,5 +1,5 @@
-// tests/render/test_sky_guide.cpp: the learned sky distribution for next-event estimation (core/render/sky_guide.h): its
-// sampling against its pdf (chi-square) alone and inside the environment's mixture, the guided and unguided images
+// tests/render/test_sky_guide.cpp: the learned sky distribution for next-event estimation (core/render/sky_guide.h):
+// its sampling against its pdf (chi-square) alone and inside the environment's mixture, the guided and unguided images
 // of a room lit through a window agreeing within a confidence interval from the sample variance, a white furnace
 // under a constant sky, determinism (threads, resumed shards), where it applies, and that it concentrates: guided
 // sky samples pass the window far more often than the sky's own.

@@ -1,5 +1,5 @@
-// tests/scene/test_normal_map.cpp: glTF normalTexture (core/render/normal_map.h): a flat quad whose normal map tilts the
-// normal by a known angle is lit as the quad geometrically tilted by that angle (direct lighting from a directional
+// tests/scene/test_normal_map.cpp: glTF normalTexture (core/render/normal_map.h): a flat quad whose normal map tilts
+// the normal by a known angle is lit as the quad geometrically tilted by that angle (direct lighting from a directional
 // light, in closed form), and a flat map (0.5, 0.5, 1) renders the image of no map bit for bit.
 #include <gtest/gtest.h>
 
