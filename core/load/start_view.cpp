@@ -1,4 +1,4 @@
-// core/load/start_view.cpp: the start view of a scene without a camera (issue #28, item 6).
+// core/load/start_view.cpp: the start view of a scene without a camera.
 //
 // The rule. Candidate eyes are a 6x6x6 grid inside the scene's bounds (cell centres). From each, 96 probe rays go
 // out in directions spread evenly over the sphere. A candidate is

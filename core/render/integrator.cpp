@@ -349,7 +349,7 @@ PV_STAGE PathWalker::Next PathWalker::continue_path(Vertex& v, const Draws& d) {
     return Next::Go;
 }
 
-// Russian roulette (issue 13, measured in docs/convergence.md): a path whose throughput m = max(beta) x eta_scale
+// Russian roulette (measured in docs/convergence.md): a path whose throughput m = max(beta) x eta_scale
 // (pbrt-v4's: the radiance scaling of refraction removed) is at least kRouletteThroughput always continues; below it,
 // it continues with probability m / kRouletteThroughput and survivors are divided by that, so the estimator stays
 // unbiased and a surviving path's throughput is brought back to the threshold. pbrt-v4's rule (threshold 1 from the
