@@ -2,6 +2,8 @@
 // world transforms, and the meshes (vertices and triangles, through core/load/gltf_internal.h's bounds-checked
 // accessors) and KHR_lights_punctual lights they place. Files and parsing: core/load/gltf_loader.cpp; materials and
 // cameras: core/load/gltf_materials.cpp.
+#include <optional>
+
 #include "core/load/gltf_internal.h"
 
 namespace pv::gltf_detail {
@@ -90,6 +92,14 @@ void Loader::add_light(int light, const dmat4& world, const std::string& at) {
 
 namespace {
 
+// v scaled to unit length, or nothing when its length is not finite or below 1e-20 (a normal or tangent that cannot
+// be used: the caller substitutes a default and counts it).
+std::optional<vec3> unit_or_none(dvec3 v) {
+    const double l = glm::length(v);
+    if (!(l > 1e-20) || !std::isfinite(l)) return std::nullopt;
+    return vec3(v / l);
+}
+
 // A primitive's vertex attributes as the file gives them (TANGENT read only for a normal-mapped material).
 struct PrimitiveAttributes {
     size_t nv = 0;  // vertices
@@ -173,10 +183,10 @@ PrimitiveVertices add_vertices(Scene& s, const PrimitiveAttributes& a, const Ins
     v.n0 = uint32_t(s.normals.size());
     v.bad_n.assign(a.nrm.empty() ? 0 : nv, 0);
     for (size_t i = 0; i < a.nrm.size() / 3; ++i) {
-        const dvec3 n = xf.normal_matrix * dvec3(a.nrm[3 * i], a.nrm[3 * i + 1], a.nrm[3 * i + 2]);
-        const double l = glm::length(n);
-        v.bad_n[i] = !(l > 1e-20) || !std::isfinite(l);
-        s.normals.push_back(v.bad_n[i] ? vec3(0.f, 0.f, 1.f) : vec3(n / l));
+        const std::optional<vec3> n =
+            unit_or_none(xf.normal_matrix * dvec3(a.nrm[3 * i], a.nrm[3 * i + 1], a.nrm[3 * i + 2]));
+        v.bad_n[i] = !n;
+        s.normals.push_back(n.value_or(vec3(0.f, 0.f, 1.f)));
     }
     const std::vector<float>& set0 = buv.set == 1 ? a.uv1 : a.uv0;
     v.has_uv0 = !set0.empty();
@@ -190,11 +200,10 @@ PrimitiveVertices add_vertices(Scene& s, const PrimitiveAttributes& a, const Ins
     v.g0 = uint32_t(s.tangents.size());
     v.bad_t.assign(a.tan.empty() ? 0 : nv, 0);
     for (size_t i = 0; i < a.tan.size() / 4; ++i) {
-        const dvec3 t = xf.m3 * dvec3(a.tan[4 * i], a.tan[4 * i + 1], a.tan[4 * i + 2]);
-        const double l = glm::length(t);
-        v.bad_t[i] = !(l > 1e-20) || !std::isfinite(l);
+        const std::optional<vec3> t = unit_or_none(xf.m3 * dvec3(a.tan[4 * i], a.tan[4 * i + 1], a.tan[4 * i + 2]));
+        v.bad_t[i] = !t;
         const float w = (a.tan[4 * i + 3] < 0.f) != xf.flip ? -1.f : 1.f;
-        s.tangents.push_back(v.bad_t[i] ? vec4(1.f, 0.f, 0.f, 1.f) : vec4(vec3(t / l), w));
+        s.tangents.push_back(t ? vec4(*t, w) : vec4(1.f, 0.f, 0.f, 1.f));
     }
     v.c0 = uint32_t(s.colors.size());
     if (a.colored)

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <utility>
 
 #include "core/base/error.h"
 #include "core/base/file_io.h"
@@ -381,21 +382,14 @@ void add_stats_warnings(const PreScan& ps, const std::string& file, Scene& scene
         scene.warnings.push_back(file + ": " + std::to_string(st.dropped_nonfinite) +
                                  " triangle(s) with non-finite vertices dropped");
     }
-    if (st.dropped_overflow)
-        scene.warnings.push_back(file + ": " + std::to_string(st.dropped_overflow) +
-                                 " triangle(s) too large for float arithmetic (area overflows) dropped");
-    if (st.dropped_degenerate)
-        scene.warnings.push_back(file + ": " + std::to_string(st.dropped_degenerate) +
-                                 " zero-area triangle(s) dropped");
-    if (st.dropped_nontriangle)
-        scene.warnings.push_back(file + ": " + std::to_string(st.dropped_nontriangle) +
-                                 " face(s) that could not be triangulated dropped");
-    if (st.default_material_tris)
-        scene.warnings.push_back(file + ": " + std::to_string(st.default_material_tris) +
-                                 " triangle(s) have no known material; default grey diffuse (0.8) used");
-    if (st.bad_normals)
-        scene.warnings.push_back(file + ": " + std::to_string(st.bad_normals) +
-                                 " triangle(s) have missing or zero normals; geometric normals used");
+    const std::pair<size_t, const char*> counted[] = {
+        {st.dropped_overflow, " triangle(s) too large for float arithmetic (area overflows) dropped"},
+        {st.dropped_degenerate, " zero-area triangle(s) dropped"},
+        {st.dropped_nontriangle, " face(s) that could not be triangulated dropped"},
+        {st.default_material_tris, " triangle(s) have no known material; default grey diffuse (0.8) used"},
+        {st.bad_normals, " triangle(s) have missing or zero normals; geometric normals used"}};
+    for (const auto& [count, what] : counted)
+        if (count) scene.warnings.push_back(file + ": " + std::to_string(count) + what);
     if (scene.triangles.empty()) scene.warnings.push_back(file + ": the scene has no triangles");
 }
 
