@@ -12,7 +12,7 @@
 
 namespace pv::ui {
 
-// Any change restarts the accumulation at a coarse resolution (1/8, 1/4 or 1/2 of the image region's, the finest
+// Any change restarts the accumulation at a coarse resolution (1/16, 1/8, 1/4 or 1/2 of the image region's, the finest
 // whose first frame the last measured pass time predicts within about one display refresh; 1/4 before any
 // measurement), so the picture follows the mouse; at rest (no change for kRestSeconds, and the pass on screen belongs
 // to the latest request) it is refined to 1/2, then full resolution. While the camera moves, a new coarse request is
@@ -21,8 +21,8 @@ namespace pv::ui {
 class RefinementSchedule {
 public:
     static constexpr int kCoarsestLevel = 4;         // resolution divisor right after a change, until measured
-    static constexpr int kMaxCoarseLevel = 8;        // the coarse levels chosen from measured pass times:
-    static constexpr int kMinCoarseLevel = 2;        //   8, 4 or 2
+    static constexpr int kMaxCoarseLevel = 16;       // the coarse levels chosen from measured pass times:
+    static constexpr int kMinCoarseLevel = 2;        //   16, 8, 4 or 2
     static constexpr double kRestSeconds = 0.12;     // no change for this long: refine one level
     static constexpr double kMaxDeferSeconds = 1.0;  // a camera move waits at most this long for the coarse pass
 
@@ -48,8 +48,8 @@ public:
     void posted(uint64_t generation, const Restart& restart, double now);
     // The requests the snapshot of `shown_generation` completes, oldest first (removed from the schedule).
     std::vector<PendingFrame> shown(uint64_t shown_generation);
-    // The first pass's resolution divisor: the finest of 2, 4, 8 whose predicted first frame,
-    // seconds_per_pixel * full_pixels / level^2, fits budget_seconds; 8 when none does, kCoarsestLevel when nothing
+    // The first pass's resolution divisor: the finest of 2, 4, 8, 16 whose predicted first frame,
+    // seconds_per_pixel * full_pixels / level^2, fits budget_seconds; 16 when none does, kCoarsestLevel when nothing
     // was measured yet (seconds_per_pixel <= 0). Pure.
     static int choose_coarse_level(double seconds_per_pixel, double full_pixels, double budget_seconds);
     // The driver took `seconds` from a request to the first snapshot of `pixels` pixels: restarts from now on start

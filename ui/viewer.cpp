@@ -208,15 +208,15 @@ bool Viewer::take_latest() {
     log_error_vs_b();
     upload_difference();
     // The next change restarts at the finest resolution whose first frame is predicted to be ready within
-    // three quarters of a display refresh (the rest is the UI's frame).
+    // half a display refresh (the rest goes to the UI: its frame, llvmpipe sharing the cores).
     const Snapshot& s = m_image.shown();
     if (m_full_w > 0)
         m_schedule.measured_first_pass(s.first_ready_ms * 1e-3, s.width * s.height, double(m_full_w) * m_full_h,
-                                       0.75 / m_window.refresh_hz());
+                                       0.5 / m_window.refresh_hz());
     return true;
 }
 
-// A restart was posted in this frame: its first pass, sized to be ready within three quarters of a refresh
+// A restart was posted in this frame: its first pass, sized to be ready within half a refresh
 // (RefinementSchedule), is waited for until this refresh ends and drawn in this very frame, instead of the frame
 // drawing the old image and the next one the new: input to frame loses one frame's drawing. Never longer than a
 // refresh: a slower pass is shown by a later frame, as before.

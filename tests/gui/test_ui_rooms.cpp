@@ -283,8 +283,8 @@ TEST(ViewerRefinement, RestartsCoarseAndRefinesAtRest) {
     EXPECT_EQ(s.level(), 1);
 }
 
-// The first pass's divisor: the finest of 2, 4, 8 whose predicted time (time per pixel x the pixels at that level)
-// fits the budget; 8 when none fits; 4 while nothing is measured.
+// The first pass's divisor: the finest of 2, 4, 8, 16 whose predicted time (time per pixel x the pixels at that
+// level) fits the budget; 16 when none fits; 4 while nothing is measured.
 TEST(ViewerRefinement, CoarseLevelIsTheFinestThatFitsTheBudget) {
     const double full = 640.0 * 480.0, budget = 0.012;
     auto level = [&](double full_frame_seconds) {
@@ -292,12 +292,14 @@ TEST(ViewerRefinement, CoarseLevelIsTheFinestThatFitsTheBudget) {
     };
     EXPECT_EQ(RefinementSchedule::choose_coarse_level(0.0, full, budget), RefinementSchedule::kCoarsestLevel);
     EXPECT_EQ(RefinementSchedule::choose_coarse_level(-1.0, full, budget), RefinementSchedule::kCoarsestLevel);
-    EXPECT_EQ(level(0.001), 2);            // never full resolution: the refinement follows at rest
-    EXPECT_EQ(level(4.0 * budget), 2);     // 1/2: a quarter of the pixels, exactly the budget
-    EXPECT_EQ(level(4.1 * budget), 4);     // just over at 1/2
-    EXPECT_EQ(level(16.0 * budget), 4);    // 1/4: a sixteenth
-    EXPECT_EQ(level(16.1 * budget), 8);    // just over at 1/4
-    EXPECT_EQ(level(1000.0 * budget), 8);  // nothing fits: the coarsest
+    EXPECT_EQ(level(0.001), 2);             // never full resolution: the refinement follows at rest
+    EXPECT_EQ(level(4.0 * budget), 2);      // 1/2: a quarter of the pixels, exactly the budget
+    EXPECT_EQ(level(4.1 * budget), 4);      // just over at 1/2
+    EXPECT_EQ(level(16.0 * budget), 4);     // 1/4: a sixteenth
+    EXPECT_EQ(level(16.1 * budget), 8);     // just over at 1/4
+    EXPECT_EQ(level(64.0 * budget), 8);     // 1/8: a sixty-fourth
+    EXPECT_EQ(level(64.1 * budget), 16);    // just over at 1/8 (Sponza at 640x480 on two cores)
+    EXPECT_EQ(level(1000.0 * budget), 16);  // nothing fits: the coarsest
     // Monotone: a slower scene never gets a finer first pass.
     int last = 2;
     for (double t = 0.001; t < 2.0; t *= 1.1) {
@@ -311,8 +313,11 @@ TEST(ViewerRefinement, MeasuredPassTimesSetWhereTheNextChangeRestarts) {
     RefinementSchedule s;
     EXPECT_EQ(s.coarse("initial", 0.0).reason, "initial");
     EXPECT_EQ(s.level(), RefinementSchedule::kCoarsestLevel);  // nothing measured yet
-    // 50 ms for 160x120: 2.6 us a pixel, 200 ms at 1/4 of 640x480, 50 ms at 1/8: the coarsest.
+    // 50 ms for 160x120: 2.6 us a pixel, 200 ms at 1/4 of 640x480, 50 ms at 1/8, 12.5 ms at 1/16: the coarsest.
     s.measured_first_pass(0.05, 160 * 120, 640.0 * 480.0, 0.012);
+    EXPECT_EQ(s.coarse_level(), 16);
+    // 40 ms for 160x120: 10 ms at 1/8, which fits.
+    s.measured_first_pass(0.04, 160 * 120, 640.0 * 480.0, 0.012);
     EXPECT_EQ(s.coarse_level(), 8);
     s.posted(1, s.coarse("scene", 0.0), 0.0);
     EXPECT_EQ(s.level(), 8);
