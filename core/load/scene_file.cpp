@@ -22,7 +22,7 @@ using Ptr = json::json_pointer;
 
 constexpr uint64_t kMaxJsonBytes = uint64_t(64) << 20;
 
-void use_default_sky_if_unlit(Scene& scene, bool lighting_given);
+void use_default_sky_if_unlit(Scene& scene, bool lighting_given, bool sealed_start);
 // set_environment_map without packing the texels: the loaders pack them once, when the scene is complete.
 void add_environment_map(Scene& scene, const std::string& spec);
 
@@ -272,8 +272,16 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     const JsonReader rs{path, &scene.warnings};
     if (j.contains("background")) scene.environment.background = r.vec(j["background"], root / "background", 0.f, kBig);
     // No camera in the file: the start view (core/load/start_view.h), unless "camera" gives one (over the framing).
-    if (!scene.has_camera)
-        scene.camera = j.contains("camera") ? scene.framing_camera() : choose_start_view(scene).camera;
+    bool sealed_start = false;  // the start view is inside a room every probe of which hits a surface
+    if (!scene.has_camera) {
+        if (j.contains("camera")) {
+            scene.camera = scene.framing_camera();
+        } else {
+            const StartView start = choose_start_view(scene);
+            scene.camera = start.camera;
+            sealed_start = start.sealed;
+        }
+    }
     if (j.contains("camera")) {
         scene.camera = read_camera(r, cam, root / "camera", scene.camera, false);
         scene.has_camera = true;
@@ -281,20 +289,25 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     if (j.contains("bookmarks")) add_bookmarks(r, rs, j["bookmarks"], root / "bookmarks", scene);
     apply_lighting(r, env, sun, dir, scene);
     apply_material_overrides(rs, materials, root / "materials", scene);
-    use_default_sky_if_unlit(scene, j.contains("background") || j.contains("environment") || j.contains("sun") ||
-                                        !scene.punctual_lights.empty());
+    use_default_sky_if_unlit(
+        scene,
+        j.contains("background") || j.contains("environment") || j.contains("sun") || !scene.punctual_lights.empty(),
+        sealed_start);
     pack_texels(scene.textures);  // the surfaces' textures and the map in one region, on huge pages
     return scene;
 }
 
 namespace {
 
-void use_default_sky_if_unlit(Scene& scene, bool lighting_given) {
+void use_default_sky_if_unlit(Scene& scene, bool lighting_given, bool sealed_start) {
     if (lighting_given || scene.has_emitters() || scene.triangles.empty()) return;
     add_environment_map(scene, "sky");
     scene.default_sky_warning = scene.warnings.size();
-    scene.warnings.push_back(scene.source +
-                             ": the scene has no emitter; lit by the default sky (--environment overrides)");
+    scene.warnings.push_back(
+        scene.source + ": the scene has no emitter; lit by the default sky (--environment overrides)" +
+        (sealed_start ? "; the start view is inside a closed interior that sky reaches only through gaps or glass, "
+                        "so expect a dark image (the viewer's F frames the scene from outside)"
+                      : ""));
 }
 
 }  // namespace
@@ -370,8 +383,13 @@ Scene load_scene(const std::string& path) {
         return load_scene_json_text(read_regular_file(path, kMaxJsonBytes, "a JSON scene file"), path);
     if (ext == ".obj" || ext == ".OBJ" || is_gltf_path(path)) {
         Scene scene = is_gltf_path(path) ? load_gltf(path) : load_obj(path);
-        if (!scene.has_camera) scene.camera = choose_start_view(scene).camera;  // inside an interior, else framed
-        use_default_sky_if_unlit(scene, !scene.punctual_lights.empty());        // a glTF's punctual lights light it
+        bool sealed_start = false;
+        if (!scene.has_camera) {  // inside an interior, else framed
+            const StartView start = choose_start_view(scene);
+            scene.camera = start.camera;
+            sealed_start = start.sealed;
+        }
+        use_default_sky_if_unlit(scene, !scene.punctual_lights.empty(), sealed_start);  // glTF punctual lights
         pack_texels(scene.textures);  // the surfaces' textures and the sky in one region, on huge pages
         return scene;
     }

@@ -118,11 +118,15 @@ StartView choose_start_view(const Scene& scene) {
                     out.closed = c;
                     out.front = fr;
                     out.openness = open;
+                    out.sealed = hits == kProbes;
                 }
             }
     out.enclosed_share = in_free_space ? float(enclosed) / float(in_free_space) : 0.f;
     if (out.enclosed_share < kMinEnclosedShare) found = false;
-    if (!found) return out;
+    if (!found) {
+        out.sealed = false;
+        return out;
+    }
 
     // The view: the horizontal direction with the longest free distance (averaged over neighbouring azimuths).
     std::vector<float> free(kAzimuths);

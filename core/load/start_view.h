@@ -15,6 +15,9 @@ struct StartView {
     float closed = 0.f, front = 0.f, openness = 0.f;
     // The share of the candidate eyes outside solids that are enclosed.
     float enclosed_share = 0.f;
+    // Inside, and every probe from the eye (upward ones too) hits a surface: a sky reaches it only through gaps
+    // or glass (the conference room; an atrium open to the sky is not sealed).
+    bool sealed = false;
 };
 
 // The start view of `scene` (see start_view.cpp for the rule). Traces rays through a BVH of its own; deterministic.

@@ -137,6 +137,26 @@ TEST(StartView, LoadSceneStartsFromIt) {
     expect_same_camera(rc.camera, framed);
     const Scene sp = load_scene(sphere);
     expect_same_camera(sp.camera, sp.framing_camera());
+
+    // Unlit, the sealed room warns that the default sky will barely light its start view; the framed sphere and a
+    // camera given in the file do not, nor does the same room open to the sky through a hole in its ceiling.
+    auto sealed_warning = [](const Scene& s) {
+        return s.default_sky_warning && s.warnings[*s.default_sky_warning].find("closed interior") != std::string::npos;
+    };
+    EXPECT_TRUE(sealed_warning(r));
+    EXPECT_TRUE(sealed_warning(rj));
+    EXPECT_FALSE(sealed_warning(rc));
+    EXPECT_FALSE(sealed_warning(sp));
+    EXPECT_TRUE(sp.default_sky_warning) << "the sphere is lit by the default sky too";
+    // A tall court open at the top (an atrium): inside, but the sky reaches the eye directly.
+    Scene atrium_src;
+    add_box(atrium_src, vec3(0.f), vec3(10.f, 12.f, 4.f), true, test::add_material(atrium_src, Material{}), 3);
+    const StartView atrium = choose_start_view(atrium_src);
+    EXPECT_TRUE(atrium.inside);
+    EXPECT_FALSE(atrium.sealed);
+    const Scene ra = load_scene(write_obj(atrium_src, "atrium.obj"));
+    EXPECT_TRUE(ra.default_sky_warning);
+    EXPECT_FALSE(sealed_warning(ra));
     fs::remove_all(dir);
 }
 
