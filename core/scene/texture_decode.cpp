@@ -35,7 +35,9 @@ bool starts_with(const std::string& s, const char* magic, size_t n) {
 
 Format sniff(const std::string& b) {
     if (starts_with(b, "\x89PNG\r\n\x1a\n", 8)) return Format::Png;
-    if (starts_with(b, "\xff\xd8\xff", 3)) return Format::Jpeg;
+    // FF D8 (SOI) alone: stb_image takes the bytes after it for a JPEG whatever they are (it skips to the next
+    // marker), so every file it would decode as one goes to libjpeg instead, which warns of the bytes it skips.
+    if (starts_with(b, "\xff\xd8", 2)) return Format::Jpeg;
     if (starts_with(b, "GIF87a", 6) || starts_with(b, "GIF89a", 6)) return Format::Gif;
     if (starts_with(b, "BM", 2)) return Format::Bmp;
     if (starts_with(b, "8BPS", 4)) return Format::Psd;

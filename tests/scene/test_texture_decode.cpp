@@ -359,6 +359,19 @@ TEST(TextureDecode, CorruptJpegAndPngGiveAnErrorNamingTheFile) {
     }
 }
 
+// stb_image decodes anything after FF D8 (SOI) as a JPEG, skipping bytes to the next marker: such a file must go to
+// libjpeg too (it decodes it, warning of the skipped bytes), never to stb's JPEG decoder.
+TEST(TextureDecode, JunkAfterTheJpegStartMarkerStillGoesToLibjpeg) {
+    const std::string jpg = write_jpeg_bytes(32, 32, JpegSpec{});
+    const std::string junk = jpg.substr(0, 2) + std::string("\x01\x02\x03", 3) + jpg.substr(2);
+    std::vector<std::string> warnings;
+    const Texture t = Texture::decode(junk, "junk.jpg", false, &warnings);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_TRUE(contains(warnings[0], "junk.jpg: corrupt JPEG data") && contains(warnings[0], "libjpeg"))
+        << warnings[0];
+    EXPECT_EQ(t.texels(), Texture::decode(jpg, "t.jpg").texels());
+}
+
 // ---------------------------------------------------------------- the budget
 
 TEST(TextureDecode, DeclaredSizeOverTheBudgetIsRefusedBeforeDecoding) {
