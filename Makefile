@@ -10,7 +10,7 @@ SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 # Debian 12 packages: build, libraries, and the tools the GUI tests use.
 PACKAGES := build-essential cmake pkg-config ccache libglfw3-dev libimgui-dev libstb-dev libgl-dev \
   libembree-dev libtbb-dev libglm-dev libtinyobjloader-dev libopenexr-dev libgtest-dev libbenchmark-dev \
-  libcli11-dev nlohmann-json3-dev openexr xvfb xauth libgl1-mesa-dri xdotool imagemagick x11-apps \
+  libcli11-dev nlohmann-json3-dev libjpeg62-turbo-dev libpng-dev openexr xvfb xauth libgl1-mesa-dri xdotool imagemagick x11-apps \
   clang libclang-rt-14-dev clang-format libeigen3-dev libtinygltf-dev shellcheck
 
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DPATHVIEW_WERROR=ON

@@ -63,13 +63,13 @@ public:
     Texture(int width, int height, std::vector<uint32_t> codes);
 
     // Image files (core/scene/texture_decode.cpp, which is the untrusted part; texture_decode.h finds the files).
-    // Loads PNG/JPG/TGA/BMP/PSD/GIF/PNM (sRGB colour, linear alpha) through stb_image, Radiance HDR (linear)
-    // through stb_image after checking its run-length data, or EXR (linear RGB, negatives and NaN set to 0) through
-    // OpenEXR. The format is told by the file's first bytes. Regular files only; the declared size is checked
-    // against the budget (core/image/image_io.h: image_limits()) before pixels are allocated.
+    // Loads JPEG (libjpeg-turbo), PNG (libpng) and TGA/BMP/PSD/GIF/PNM (stb_image) as sRGB colour and linear alpha,
+    // Radiance HDR (linear) through stb_image after checking its run-length data, or EXR (linear RGB, negatives and
+    // NaN set to 0) through OpenEXR. The format is told by the file's first bytes. Regular files only; the declared
+    // size is checked against the budget (core/image/image_io.h: image_limits()) before pixels are allocated.
     // alpha_only: the texture is a mask (map_d): alpha = its alpha channel if it has one, else its raw grey level.
     // Throws pv::Error naming the file when it cannot be read; a file whose data ends early loads with its
-    // missing pixels black and a warning appended to *warnings (when given).
+    // missing pixels black (a JPEG's: what libjpeg fills in) and a warning appended to *warnings (when given).
     static Texture load(const std::string& path, bool alpha_only = false, std::vector<std::string>* warnings = nullptr);
 
     // The same from the bytes of an image file in memory; `name` is used in messages (the fuzzer, tests).

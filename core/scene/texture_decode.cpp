@@ -1,20 +1,24 @@
 // core/scene/texture_decode.cpp: untrusted image files into Textures (Texture::load, Texture::decode), and texture
-// file names resolved (resolve_texture_path).
-// stb_image 2.27 (Debian 12) has no limits of its own and loops forever on some Radiance RLE data; it is guarded
-// here rather than replaced (OpenImageIO 2.4 would be the alternative): the faults are narrow and known, the guards
-// (declared size read first, the RLE walk, truncation found from stb's read position) are small and fuzzed
-// (tests/fuzz/fuzz_image.cpp), and OpenImageIO would add a large dependency tree to every build and CI run.
+// file names resolved (resolve_texture_path). JPEG through libjpeg-turbo and PNG through libpng (stb_image 2.27's
+// decoders of both read and write out of bounds on crafted files); HDR, BMP, TGA, GIF, PSD, PIC, PNM through
+// stb_image, guarded (declared size read first, Radiance RLE walked, truncation found); EXR through OpenEXR.
 #include "core/scene/texture_decode.h"
 
+#include <png.h>
 #include <stb_image.h>
 
 #include <algorithm>
 #include <cctype>
+#include <csetjmp>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <limits>
 #include <memory>
+
+// jpeglib.h needs FILE and size_t declared first.
+#include <jerror.h>
+#include <jpeglib.h>
 
 #include "core/base/error.h"
 #include "core/base/file_io.h"
@@ -31,7 +35,9 @@ bool starts_with(const std::string& s, const char* magic, size_t n) {
 
 Format sniff(const std::string& b) {
     if (starts_with(b, "\x89PNG\r\n\x1a\n", 8)) return Format::Png;
-    if (starts_with(b, "\xff\xd8\xff", 3)) return Format::Jpeg;
+    // FF D8 (SOI) alone: stb_image takes the bytes after it for a JPEG whatever they are (it skips to the next
+    // marker), so every file it would decode as one goes to libjpeg instead, which warns of the bytes it skips.
+    if (starts_with(b, "\xff\xd8", 2)) return Format::Jpeg;
     if (starts_with(b, "GIF87a", 6) || starts_with(b, "GIF89a", 6)) return Format::Gif;
     if (starts_with(b, "BM", 2)) return Format::Bmp;
     if (starts_with(b, "8BPS", 4)) return Format::Psd;
@@ -177,6 +183,255 @@ Texture from_exr_texels(std::vector<vec4> texels, int w, int h) {
     return Texture(w, h, std::move(texels));
 }
 
+// 8-bit RGBA pixels (row 0 at the top) as the Texture of their codes: R, G, B sRGB codes and A linear, kept as the
+// file's codes (4 bytes a texel), not decoded to floats and recognised again. `n` is the file's channel count as
+// stbi_load reports it: a mask (alpha_only) of a file without alpha (1 or 3 channels) takes its grey level (R).
+Texture from_rgba8(const unsigned char* q, int w, int h, int n, bool alpha_only) {
+    const bool alpha_from_grey = alpha_only && (n == 1 || n == 3);
+    std::vector<uint32_t> codes(size_t(w) * size_t(h));
+    for (size_t i = 0; i < codes.size(); ++i)
+        codes[i] = uint32_t(q[4 * i]) | uint32_t(q[4 * i + 1]) << 8 | uint32_t(q[4 * i + 2]) << 16 |
+                   uint32_t(q[4 * i + (alpha_from_grey ? 0 : 3)]) << 24;
+    return Texture(w, h, std::move(codes));
+}
+
+// ---------------------------------------------------------------- JPEG (libjpeg-turbo)
+// libjpeg's error_exit would exit(); here it formats the message and longjmps back to the setjmp of jpeg_header or
+// jpeg_pixels, small functions with no C++ object in their frames (nothing is skipped by the longjmp). Warnings are
+// recorded instead of printed: the end of data (libjpeg then decodes the rest as if the data were zeros) becomes
+// the truncation warning, the first other one (corrupt data it decoded through) a warning of its own.
+struct JpegState {
+    jpeg_decompress_struct cinfo;
+    jpeg_error_mgr err;
+    jpeg_progress_mgr progress;
+    std::jmp_buf jump;
+    bool created = false;
+    bool ended_early = false;
+    char message[JMSG_LENGTH_MAX] = "";
+    char warning[JMSG_LENGTH_MAX] = "";
+};
+
+// A progressive JPEG may have any number of scans, each a pass over the whole image: libjpeg-turbo's advice
+// (libjpeg.txt, djpeg -maxscans) is to bound them. Real encoders write at most a few dozen.
+constexpr int kMaxJpegScans = 1000;
+
+void jpeg_fail(j_common_ptr c) {
+    auto* s = static_cast<JpegState*>(c->client_data);
+    c->err->format_message(c, s->message);
+    std::longjmp(s->jump, 1);
+}
+
+void jpeg_note(j_common_ptr c, int level) {
+    if (level >= 0) return;  // trace messages
+    auto* s = static_cast<JpegState*>(c->client_data);
+    if (c->err->msg_code == JWRN_JPEG_EOF)
+        s->ended_early = true;
+    else if (!s->warning[0])
+        c->err->format_message(c, s->warning);
+    ++c->err->num_warnings;
+}
+
+void jpeg_scans(j_common_ptr c) {
+    auto* s = static_cast<JpegState*>(c->client_data);
+    if (s->cinfo.input_scan_number > kMaxJpegScans) {
+        std::snprintf(s->message, sizeof s->message, "more than %d progressive scans", kMaxJpegScans);
+        std::longjmp(s->jump, 1);
+    }
+}
+
+bool jpeg_header(JpegState& s, const unsigned char* data, size_t size) {
+    s.cinfo.err = jpeg_std_error(&s.err);
+    s.err.error_exit = jpeg_fail;
+    s.err.emit_message = jpeg_note;
+    s.cinfo.client_data = &s;
+    if (setjmp(s.jump)) return false;
+    jpeg_create_decompress(&s.cinfo);
+    s.created = true;
+    s.progress.progress_monitor = jpeg_scans;
+    s.cinfo.progress = &s.progress;
+    jpeg_mem_src(&s.cinfo, data, static_cast<unsigned long>(size));
+    jpeg_read_header(&s.cinfo, TRUE);
+    return true;
+}
+
+// Decodes into `out`, output_width x output_height x 4 bytes as jpeg_calc_output_dimensions found them.
+bool jpeg_pixels(JpegState& s, unsigned char* out, JDIMENSION w, JDIMENSION h) {
+    if (setjmp(s.jump)) return false;
+    jpeg_start_decompress(&s.cinfo);
+    if (s.cinfo.output_width != w || s.cinfo.output_height != h || s.cinfo.output_components != 4) {
+        std::snprintf(s.message, sizeof s.message, "unexpected output size");
+        return false;
+    }
+    // Every scanline read is the whole image: jpeg_finish_decompress would only look for the EOI marker.
+    while (s.cinfo.output_scanline < h) {
+        JSAMPROW row = out + size_t(s.cinfo.output_scanline) * w * 4;
+        jpeg_read_scanlines(&s.cinfo, &row, 1);
+    }
+    return true;
+}
+
+struct JpegDestroy {
+    JpegState& s;
+    ~JpegDestroy() {
+        if (s.created) jpeg_destroy_decompress(&s.cinfo);
+    }
+};
+
+// x * y / 255 rounded, as stb_image's stbi__blinn_8x8.
+unsigned char blinn_8x8(unsigned x, unsigned y) {
+    const unsigned t = x * y + 128;
+    return static_cast<unsigned char>((t + (t >> 8)) >> 8);
+}
+
+// Grey, YCbCr and RGB JPEGs as libjpeg-turbo's RGBA; CMYK and YCCK (Adobe) ones as libjpeg's CMYK, which is stored
+// inverted (255 = no ink), times K as stb_image converts them: R = C * K / 255.
+Texture decode_jpeg(const std::string& bytes, const std::string& path, bool alpha_only,
+                    std::vector<std::string>& warnings) {
+    auto s = std::make_unique<JpegState>();
+    JpegDestroy destroy{*s};
+    auto fail = [&](const char* what) {
+        return Error(path + ": cannot read image: corrupt or unsupported JPEG data (libjpeg: " + what + ")");
+    };
+    if (!jpeg_header(*s, reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size())) throw fail(s->message);
+    jpeg_decompress_struct& c = s->cinfo;
+    const JDIMENSION w = c.image_width, h = c.image_height;
+    check_declared_size(path, w, h, bytes.size(), pixels_per_byte(Format::Jpeg));
+    const bool cmyk = c.jpeg_color_space == JCS_CMYK || c.jpeg_color_space == JCS_YCCK;
+    c.out_color_space = cmyk ? JCS_CMYK : JCS_EXT_RGBA;
+    c.dct_method = JDCT_ISLOW;  // the default: the accurate integer IDCT, and fancy upsampling
+    // libjpeg's own allocations: a progressive JPEG's coefficients (2 bytes each, 64 a block of 8x8 pixels per
+    // component at full resolution, blocks padded to 32-pixel MCUs) and 64 MiB for the rest. Past it libjpeg fails
+    // (it has no backing store) rather than allocating what a crafted header asks for.
+    const uint64_t padded = uint64_t(w + 31) / 32 * 32 * (uint64_t(h + 31) / 32 * 32);
+    const uint64_t budget = padded * 2 * uint64_t(std::max(c.num_components, 1)) + (uint64_t(64) << 20);
+    c.mem->max_memory_to_use = long(std::min<uint64_t>(budget, uint64_t(std::numeric_limits<long>::max())));
+    std::vector<unsigned char> px(size_t(w) * size_t(h) * 4);
+    if (!jpeg_pixels(*s, px.data(), w, h)) {
+        if (s->err.msg_code == JERR_NO_BACKING_STORE)
+            throw Error(path + ": cannot read image: the JPEG needs more than " + std::to_string(budget >> 20) +
+                        " MiB to decode");
+        throw fail(s->message);
+    }
+    if (cmyk)
+        for (size_t i = 0; i < px.size(); i += 4) {
+            const unsigned k = px[i + 3];
+            px[i] = blinn_8x8(px[i], k);
+            px[i + 1] = blinn_8x8(px[i + 1], k);
+            px[i + 2] = blinn_8x8(px[i + 2], k);
+            px[i + 3] = 255;
+        }
+    // At the end of the data libjpeg inserts an end-of-image marker, warns, and warns again of the marker it then
+    // meets inside the entropy-coded data: one warning, the truncation's.
+    if (s->ended_early)
+        warnings.push_back("the image data ends early (truncated file?); libjpeg fills in what is missing (grey)");
+    else if (s->warning[0])
+        warnings.push_back(std::string("corrupt JPEG data, decoded as far as possible (libjpeg: ") + s->warning + ")");
+    return from_rgba8(px.data(), int(w), int(h), c.num_components >= 3 ? 3 : 1, alpha_only);
+}
+
+// ---------------------------------------------------------------- PNG (libpng)
+// libpng's errors, like libjpeg's, longjmp back to png_header or png_pixels (no C++ object in their frames); its
+// warnings (benign errors, ancillary chunks with bad CRCs) are ignored, as stb_image ignores those chunks.
+struct PngState {
+    png_structp png = nullptr;
+    png_infop info = nullptr;
+    const unsigned char* data = nullptr;
+    size_t size = 0, pos = 0;
+    std::jmp_buf jump;
+    bool ended_early = false;
+    bool reading_rows = false;
+    char message[256] = "";
+};
+
+void png_fail(png_structp png, png_const_charp msg) {
+    auto* s = static_cast<PngState*>(png_get_error_ptr(png));
+    std::snprintf(s->message, sizeof s->message, "%s", msg ? msg : "");
+    std::longjmp(s->jump, 1);
+}
+
+void png_ignore(png_structp, png_const_charp) {}
+
+void png_from_memory(png_structp png, png_bytep out, size_t n) {
+    auto* s = static_cast<PngState*>(png_get_io_ptr(png));
+    if (n > s->size - s->pos) {
+        s->ended_early = true;
+        png_error(png, "the data ends early");
+    }
+    std::memcpy(out, s->data + s->pos, n);
+    s->pos += n;
+}
+
+bool png_header(PngState& s) {
+    if (setjmp(s.jump)) return false;
+    s.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &s, png_fail, png_ignore);
+    if (s.png) s.info = png_create_info_struct(s.png);
+    if (!s.info) {
+        std::snprintf(s.message, sizeof s.message, "out of memory");
+        return false;
+    }
+    png_set_read_fn(s.png, &s, png_from_memory);
+    // Image data read 1 KiB at a time (libpng's default is 8 KiB): of a truncated file, the rows before the last
+    // KiB are decoded.
+    png_set_compression_buffer_size(s.png, 1024);
+    png_read_info(s.png, s.info);
+    return true;
+}
+
+// As stb_image decodes a PNG into 8-bit RGBA: palette to RGB, grey below 8 bits scaled up, a tRNS chunk to alpha,
+// 16 bits to their high byte, grey to RGB, opaque alpha added; no gamma or ICC conversion. Into `out`, w x h x 4
+// bytes; rows the data does not reach keep what `out` held.
+bool png_pixels(PngState& s, unsigned char* out, png_uint_32 w, png_uint_32 h) {
+    if (setjmp(s.jump)) return false;
+    png_set_expand(s.png);
+    png_set_strip_16(s.png);
+    png_set_gray_to_rgb(s.png);
+    png_set_add_alpha(s.png, 0xff, PNG_FILLER_AFTER);
+    const int passes = png_set_interlace_handling(s.png);
+    png_read_update_info(s.png, s.info);
+    if (png_get_rowbytes(s.png, s.info) != size_t(w) * 4) png_error(s.png, "unexpected row size");
+    s.reading_rows = true;
+    for (int p = 0; p < passes; ++p)
+        for (png_uint_32 y = 0; y < h; ++y) png_read_row(s.png, out + size_t(y) * w * 4, nullptr);
+    return true;
+}
+
+struct PngDestroy {
+    PngState& s;
+    ~PngDestroy() {
+        if (s.png) png_destroy_read_struct(&s.png, s.info ? &s.info : nullptr, nullptr);
+    }
+};
+
+Texture decode_png(const std::string& bytes, const std::string& path, bool alpha_only,
+                   std::vector<std::string>& warnings) {
+    auto s = std::make_unique<PngState>();
+    PngDestroy destroy{*s};
+    s->data = reinterpret_cast<const unsigned char*>(bytes.data());
+    s->size = bytes.size();
+    auto fail = [&] {
+        return Error(path + ": cannot read image: " +
+                     (s->ended_early ? "the PNG data ends before its image data"
+                                     : "corrupt or unsupported PNG data (libpng: " + std::string(s->message) + ")"));
+    };
+    if (!png_header(*s)) throw fail();
+    const png_uint_32 w = png_get_image_width(s->png, s->info), h = png_get_image_height(s->png, s->info);
+    check_declared_size(path, w, h, bytes.size(), pixels_per_byte(Format::Png));
+    // The channel count stbi_load reports: a palette's entries (RGB, or RGBA with a tRNS chunk), else the file's
+    // channels, one more for a grey or RGB image with a tRNS chunk (its transparent colour).
+    const bool trns = png_get_valid(s->png, s->info, PNG_INFO_tRNS) != 0;
+    const int n = png_get_color_type(s->png, s->info) == PNG_COLOR_TYPE_PALETTE
+                      ? (trns ? 4 : 3)
+                      : int(png_get_channels(s->png, s->info)) + (trns ? 1 : 0);
+    // Pixels the data does not reach are opaque black.
+    std::vector<uint32_t> px(size_t(w) * size_t(h), 0xff000000u);
+    auto* out = reinterpret_cast<unsigned char*>(px.data());
+    if (!png_pixels(*s, out, w, h)) {
+        if (!(s->ended_early && s->reading_rows)) throw fail();
+        warnings.push_back("the image data ends early (truncated file?); missing pixels are black");
+    }
+    return from_rgba8(out, int(w), int(h), n, alpha_only);
+}
+
 }  // namespace
 
 Texture Texture::load(const std::string& path, bool alpha_only, std::vector<std::string>* warnings) {
@@ -203,6 +458,13 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
     if (format == Format::Exr) {
         texels = decode_exr_rgba(bytes, path, w, h);
         return from_exr_texels(std::move(texels), w, h);
+    }
+    if (format == Format::Jpeg || format == Format::Png) {
+        std::vector<std::string> found;
+        Texture t = format == Format::Jpeg ? decode_jpeg(bytes, path, alpha_only, found)
+                                           : decode_png(bytes, path, alpha_only, found);
+        for (const std::string& f : found) warn(f);
+        return t;
     }
     if (bytes.size() > size_t(std::numeric_limits<int>::max() - int(kPadding)))
         throw Error(path + ": the file is too large for stb_image (2 GiB)");
@@ -237,14 +499,7 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
         truncated = uint64_t(std::ftell(f.get())) > size;
         f.reset();
         bytes = std::string();
-        // Kept as the file's 8-bit codes (4 bytes a texel), not decoded to floats and recognised again.
-        const stbi_uc* q = px.get();
-        const bool alpha_from_grey = alpha_only && (n == 1 || n == 3);
-        std::vector<uint32_t> codes(size_t(w) * size_t(h));
-        for (size_t i = 0; i < codes.size(); ++i)
-            codes[i] = uint32_t(q[4 * i]) | uint32_t(q[4 * i + 1]) << 8 | uint32_t(q[4 * i + 2]) << 16 |
-                       uint32_t(q[4 * i + (alpha_from_grey ? 0 : 3)]) << 24;
-        return finish(Texture(w, h, std::move(codes)));
+        return finish(from_rgba8(px.get(), w, h, n, alpha_only));
     }
     return finish(Texture(w, h, std::move(texels)));
 }
