@@ -101,7 +101,7 @@ inline float next_float_down(float v) {
 // p_error (from barycentric_error) makes it robust where p's own rounding error exceeds those ULPs (a triangle
 // whose vertices are many orders of magnitude larger than p): p then moves at least dot(|n|, p_error) along n,
 // rounded away from p (pbrt-v4, OffsetRayOrigin).
-inline vec3 offset_ray_origin(vec3 p, vec3 n, vec3 p_error = vec3(0.f)) {
+[[gnu::always_inline]] inline vec3 offset_ray_origin(vec3 p, vec3 n, vec3 p_error = vec3(0.f)) {
     // Waechter and Binder move coordinates below 1/32 by a fixed 1/65536 instead of ULPs, since ULPs near zero are
     // far smaller than the rounding error of a hit point computed from larger vertices. Here that error is bounded
     // by p_error, so the fixed distance (a leak in millimetre-sized scenes: 1/65536 is 1.5% of 1e-3) is only used

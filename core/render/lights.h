@@ -43,7 +43,7 @@ struct LightSample {
 // toward a point on an emitter, the segment to that point offset off the emitter (t in [0, 1 - 1e-4) of the
 // unnormalised segment, pbrt-v4's ShadowEpsilon); toward the environment (dist infinite), unbounded along ls.wi.
 // The integrator and the benchmark's minimal kernel both build their shadow rays here.
-inline Ray shadow_ray(vec3 origin, const LightSample& ls) {
+[[gnu::always_inline]] inline Ray shadow_ray(vec3 origin, const LightSample& ls) {
     Ray shadow;
     shadow.o = origin;
     if (std::isinf(ls.dist)) {

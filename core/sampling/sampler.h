@@ -58,11 +58,11 @@ public:
         m_dim += n;
         return first;
     }
-    float get1d_at(uint32_t dim) {
+    [[gnu::always_inline]] float get1d_at(uint32_t dim) {
         if (m_kind == SamplerKind::Independent) return m_rng.next_float();
         return sobol_owen_1d_rev(m_rindex, draw_seed(dim));
     }
-    vec2 get2d_at(uint32_t dim) {
+    [[gnu::always_inline]] vec2 get2d_at(uint32_t dim) {
         if (m_kind == SamplerKind::Independent) {
             const float a = m_rng.next_float();
             return vec2(a, m_rng.next_float());
