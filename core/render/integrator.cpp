@@ -258,7 +258,8 @@ PV_STAGE PathWalker::Next PathWalker::scatter() {
 PV_STAGE void PathWalker::next_event(Vertex& v, const Draws& d) {
     const TraceableScene& ts = *m_ts;
     LightSample ls = m_early_ls;
-    if (!(m_early ? m_early_found : ts.sample_light(v.sf.p, v.ns, d.u_light_select, d.u_light, ls)) || is_black(ls.le))
+    if (!(m_early ? m_early_found : ts.sample_light(v.sf.p, v.ns, d.u_light_select, d.u_light, ls, true)) ||
+        is_black(ls.le))
         return;
     const vec3 wi = v.frame.to_local(ls.wi);
     const float cos_gl = glm::dot(ls.wi, v.ng);

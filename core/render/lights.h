@@ -88,9 +88,11 @@ public:
     LightSamplerKind sampler() const { return m_use_tree ? LightSamplerKind::Tree : LightSamplerKind::Power; }
     const LightTree& tree() const { return m_tree; }
     // Samples a light point as seen from `ref` (shading normal ref_n, or 0: the tree's pick then ignores the
-    // receiver's cosine) into `out`; false (out unspecified) when the sample is useless (d = 0, cos = 0). Inline:
-    // this is the path tracer's per-vertex call.
-    bool sample(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& out) const;
+    // receiver's cosine) into `out`; false (out unspecified) when the sample is useless (d = 0, cos = 0). With
+    // skip_unlit, also false, before any point is chosen, when the picked emitter is one-sided and ref is behind it
+    // or in its plane: exactly the samples whose out.le would be black (the path tracer's choice; the chi-square
+    // tests sample the whole density). Inline: this is the path tracer's per-vertex call.
+    bool sample(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& out, bool skip_unlit = false) const;
     // Solid-angle pdf that sample() picks point p on triangle `tri` (normal n) from `ref` (normal ref_n).
     float pdf(uint32_t tri, vec3 ref, vec3 ref_n, vec3 p, vec3 n) const;
     // Probability of choosing triangle `tri` (0 for non-lights) by power (the power sampler's, wherever the point).
@@ -153,7 +155,7 @@ inline bool LightSet::spherical(const Emitter& e, vec3 ref, float& omega) const 
     return omega > kMinSphericalSolidAngle && omega < kMaxSphericalSolidAngle;
 }
 
-inline bool LightSet::sample(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& ls) const {
+inline bool LightSet::sample(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& ls, bool skip_unlit) const {
     const size_t n = m_tris.size();
     if (n == 0) return false;
     size_t k;
@@ -167,6 +169,9 @@ inline bool LightSet::sample(vec3 ref, vec3 ref_n, float u_select, vec2 u, Light
         pmf = m_emitters[k].pmf;
     }
     const Emitter& e = m_emitters[k];
+    // A one-sided emitter seen from behind or edge-on sends nothing to ref (cos_l below would be <= 0 at every point
+    // of it): no point is chosen, and the spherical rule's work is skipped (the Cornell box's ceiling beside its lamp).
+    if (skip_unlit && !e.two_sided && !(glm::dot(ref - e.p0, e.n) > 0.f)) return false;
     float omega = 0.f;
     const bool by_solid_angle = spherical(e, ref, omega);
     vec2 b;

@@ -88,7 +88,8 @@ public:
     // Samples a light direction from `ref` into `ls` (pdf per solid angle, the selection probability included; an
     // environment sample has dist = infinity). False (ls unspecified) when the sample is useless.
     // ref_n: the shading normal at ref (or 0), which the light tree's pick weighs the receiver's cosine with.
-    bool sample_light(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& ls) const;
+    // skip_unlit: see LightSet::sample (the path tracer drops samples of one-sided emitters seen from behind).
+    bool sample_light(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& ls, bool skip_unlit = false) const;
     // The pdf sample_light would give point p (normal n) on emissive triangle `tri` from `ref` (normal ref_n).
     float light_pdf_hit(uint32_t tri, vec3 ref, vec3 ref_n, vec3 p, vec3 n) const {
         return (1.f - m_p_env) * m_lights.pdf(tri, ref, ref_n, p, n);
@@ -171,7 +172,8 @@ private:
 };
 
 // Inline: the path tracer's per-vertex call.
-inline bool TraceableScene::sample_light(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& ls) const {
+inline bool TraceableScene::sample_light(vec3 ref, vec3 ref_n, float u_select, vec2 u, LightSample& ls,
+                                         bool skip_unlit) const {
     const float p_env = m_p_env;
     if (u_select < p_env) {
         if (m_p_mix > 0.f) return sample_environment_mixed(ref, u_select / p_env, u, ls);
@@ -183,7 +185,7 @@ inline bool TraceableScene::sample_light(vec3 ref, vec3 ref_n, float u_select, v
         ls.dist = std::numeric_limits<float>::infinity();
         return true;
     }
-    if (!m_lights.sample(ref, ref_n, (u_select - p_env) / (1.f - p_env), u, ls)) return false;
+    if (!m_lights.sample(ref, ref_n, (u_select - p_env) / (1.f - p_env), u, ls, skip_unlit)) return false;
     ls.pdf *= 1.f - p_env;
     return true;
 }

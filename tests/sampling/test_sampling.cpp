@@ -8,6 +8,8 @@
 //    must agree; exactly 1 for albedo-1 Lambert, the mirror and lossless glass.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "core/render/lights.h"
 #include "core/sampling/warp.h"
 #include "core/scene/bsdf.h"
@@ -196,6 +198,37 @@ TEST(LightSampling, SamplePdfMatchesPdfAndPowerIsProportional) {
     EXPECT_NEAR(ls.lights->pmf(3), small / total, 1e-6);
     EXPECT_EQ(ls.lights->pmf(4), 0.f);
     EXPECT_NEAR(ls.lights->total_power(), M_PI * total, 1e-4 * M_PI * total);
+}
+
+// skip_unlit (the path tracer's call) drops exactly the samples whose emission toward ref is black: a one-sided
+// emitter seen from behind or edge-on. Every other sample is the full sampler's, bit for bit, so the estimator is
+// unchanged. Points all around the lights, the solid-angle rule's region included.
+TEST(LightSampling, SkipUnlitDropsExactlyTheBlackSamples) {
+    const LightScene ls;
+    Pcg32 g(7, 8);
+    int skipped = 0, kept = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const vec3 ref(6.f * g.next_float() - 3.f, 5.f * g.next_float() - 2.5f, 4.f * g.next_float() - 2.f);
+        const float u_select = g.next_float();
+        const vec2 u(g.next_float(), g.next_float());
+        LightSample all, lit;
+        const bool a = ls.lights->sample(ref, vec3(0.f), u_select, u, all);
+        const bool b = ls.lights->sample(ref, vec3(0.f), u_select, u, lit, true);
+        if (!b) {
+            EXPECT_TRUE(!a || is_black(all.le))
+                << "a lit sample was dropped at ref " << ref.x << " " << ref.y << " " << ref.z;
+            skipped += a;
+            continue;
+        }
+        ++kept;
+        ASSERT_TRUE(a);
+        EXPECT_EQ(std::memcmp(&all.p, &lit.p, sizeof(vec3)), 0);
+        EXPECT_EQ(std::memcmp(&all.le, &lit.le, sizeof(vec3)), 0);
+        EXPECT_EQ(all.pdf, lit.pdf);
+        EXPECT_EQ(all.dist, lit.dist);
+    }
+    EXPECT_GT(skipped, 1000) << "points behind the one-sided lights";
+    EXPECT_GT(kept, 5000);
 }
 
 // ---------------------------------------------------------------- dielectric
