@@ -24,16 +24,16 @@ void install_callbacks(GLFWwindow* window, InputQueue* queue) {
         double x, y;
         glfwGetCursorPos(w, &x, &y);
         queue_of(w).buttons.push_back({button, action, mods, vec2(float(x), float(y)), glfwGetTime()});
-        queue_of(w).note();
+        queue_of(w).note(true);
     });
     glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
         queue_of(w).scroll += float(dy);
-        queue_of(w).note();
+        queue_of(w).note(true);
     });
     glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int mods) {
         if (action == GLFW_PRESS) queue_of(w).keys.emplace_back(key, mods);
         track_fly_key(queue_of(w), key, action, mods);
-        queue_of(w).note();
+        queue_of(w).note(action == GLFW_PRESS);
     });
     glfwSetWindowFocusCallback(window, [](GLFWwindow* w, int focused) {
         if (!focused)
@@ -43,10 +43,16 @@ void install_callbacks(GLFWwindow* window, InputQueue* queue) {
     glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
         for (int i = 0; i < count; ++i)
             if (paths[i]) queue_of(w).dropped.emplace_back(paths[i]);
-        queue_of(w).note();
+        queue_of(w).note(true);
     });
     glfwSetCharCallback(window, [](GLFWwindow* w, unsigned) { queue_of(w).note(); });
-    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double, double) { queue_of(w).note(); });
+    glfwSetCursorPosCallback(window, [](GLFWwindow* w, double, double) {
+        // A drag (any button held) moves the camera or a divider: urgent; hovering is not.
+        bool held = false;
+        for (int b = GLFW_MOUSE_BUTTON_1; b <= GLFW_MOUSE_BUTTON_3; ++b)
+            held = held || glfwGetMouseButton(w, b) == GLFW_PRESS;
+        queue_of(w).note(held);
+    });
     glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int, int) { queue_of(w).note(); });
     glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { queue_of(w).note(); });
 }

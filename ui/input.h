@@ -24,9 +24,11 @@ struct InputQueue {
     float scroll = 0.f;
     std::vector<std::string> dropped;  // files dropped on the window (drop.h)
     bool any = false;                  // something happened: draw a frame
+    bool urgent = false;               // a press, scroll, drop or drag: draw it without waiting a whole refresh
     double first_event = -1.0;         // glfwGetTime() of the first event not yet handled (for the latency figure)
-    void note() {
+    void note(bool press = false) {
         any = true;
+        urgent = urgent || press;
         if (first_event < 0.0) first_event = glfwGetTime();
     }
 };

@@ -255,11 +255,15 @@ bool Viewer::wait_for_work() {
     const bool continuous = fly_keys || m_settle_frames > 0;  // held keys send no events
     // A deferred camera move needs a frame when its wait expires, even if nothing else happens.
     if (!continuous && !m_input.any) glfwWaitEventsTimeout(m_schedule.wait_timeout(glfwGetTime(), 0.5));
-    // The first pass of a new accumulation is shown at once, though: it answers an input event.
+    // The first pass of a new accumulation is shown at once, though: it answers an input event. A press, scroll,
+    // drop or drag is handled after half a refresh (at most two frames a refresh): waiting out the whole refresh put
+    // up to 17 ms between a drag and the restart it posts.
     const double next = m_last_frame + 1.0 / m_window.refresh_hz();
+    const double next_urgent = m_last_frame + 0.5 / m_window.refresh_hz();
     for (double now = glfwGetTime(); now < next; now = glfwGetTime()) {
         if (m_renderer->published_generation() > m_image.shown().generation) break;
-        glfwWaitEventsTimeout(next - now);
+        if (m_input.urgent && now >= next_urgent) break;
+        glfwWaitEventsTimeout((m_input.urgent ? next_urgent : next) - now);
     }
     glfwPollEvents();
 
@@ -365,6 +369,7 @@ int Viewer::run() {
         m_frame_stats.end_frame((end - start) * 1e3);
         log_frames_shown(m_log, m_schedule, m_image.shown(), end);
         m_input.any = false;
+        m_input.urgent = false;
         m_input.first_event = -1.0;
     }
     m_log.line("exit frames=%d", m_frame_stats.total_frames());
