@@ -367,6 +367,37 @@ void AtrousDenoiser::denoise(const Image& mean, const Image& variance_of_mean, I
         for (int c = 0; c < 3; ++c) out.rgb[i * 3 + size_t(c)] = col[c][i] * dem[c][i];
 }
 
+Image atrous_variance(const Film& film) {
+    Image var = film.variance_of_mean();
+    const int w = film.width(), h = film.height();
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            if (film.pixel(x, y).n >= 2) continue;
+            double sum[3] = {}, sum_sq[3] = {};
+            int k = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int xx = x + dx, yy = y + dy;
+                    if (xx < 0 || yy < 0 || xx >= w || yy >= h) continue;
+                    const FilmPixel& q = film.pixel(xx, yy);
+                    if (q.n == 0) continue;
+                    for (int c = 0; c < 3; ++c) {
+                        const double m = q.mean(c);
+                        sum[c] += m;
+                        sum_sq[c] += m * m;
+                    }
+                    ++k;
+                }
+            if (k < 2) continue;
+            for (int c = 0; c < 3; ++c) {
+                const double m = sum[c] / k;
+                var.rgb[(size_t(y) * size_t(w) + size_t(x)) * 3 + size_t(c)] =
+                    static_cast<float>(std::max(0.0, sum_sq[c] / k - m * m));
+            }
+        }
+    return var;
+}
+
 Image denoise_atrous(const Image& mean, const Image& variance_of_mean, const FeatureImage& features) {
     AtrousDenoiser d;
     Image out;

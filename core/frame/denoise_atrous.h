@@ -58,4 +58,10 @@ private:
 // One call of a fresh AtrousDenoiser.
 Image denoise_atrous(const Image& mean, const Image& variance_of_mean, const FeatureImage& features);
 
+// The variance of each pixel's mean that the filter's colour stopping is scaled by: the film's own (sample variance
+// over n) where a pixel has two samples or more; where it has fewer (every pixel of an accumulation's first pass),
+// the spread of its 3x3 neighbourhood's means (SVGF's spatial estimate while a pixel's history is short), since a
+// variance of 0 would let the filter accept no neighbour and show the 1-spp image as it is.
+Image atrous_variance(const Film& film);
+
 }  // namespace pv

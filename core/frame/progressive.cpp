@@ -331,7 +331,7 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
     // The filter's own time sets the throttle: the feature pass above runs once per generation, and counting it
     // made the second pass of every accumulation (each coarse pass while orbiting) go undenoised.
     const auto filter_start = std::chrono::steady_clock::now();
-    m_atrous.denoise(film.mean(), film.variance_of_mean(), m_denoised_image);
+    m_atrous.denoise(film.mean(), atrous_variance(film), m_denoised_image);
     m_denoised_nfor = false;
     m_denoised_generation = generation;
     m_denoised_spp = spp;

@@ -21,7 +21,7 @@ Image denoise_film(const Film& film, const FeatureImage& features, Denoiser deno
                    const std::atomic<bool>* cancel) {
     if (denoiser == Denoiser::Nfor) return denoise_nfor(film, features, stats, cancel);
     const auto t0 = std::chrono::steady_clock::now();
-    Image out = denoise_atrous(film.mean(), film.variance_of_mean(), features);
+    Image out = denoise_atrous(film.mean(), atrous_variance(film), features);
     if (stats) stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
 }

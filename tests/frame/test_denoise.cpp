@@ -92,6 +92,24 @@ TEST(DenoiseAtrous, ReducesErrorAndKeepsEdges) {
     expect_edge_kept(out);
 }
 
+// An accumulation's first pass has one sample a pixel, hence no per-pixel variance: atrous_variance estimates it from
+// the 3x3 neighbourhood, so the filter smooths the 1-spp image too (with the film's zero variances it accepted no
+// neighbour and showed the noise as it was) and still keeps the step.
+TEST(DenoiseAtrous, SmoothsAOneSampleImage) {
+    const Film film = noisy_step_film(1);
+    Image truth(kW, kH);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) truth.set(x, y, vec3(truth_at(x)));
+    const Image out = denoise_atrous(film.mean(), atrous_variance(film), step_features());
+    const double noisy = compare_images(film.mean(), truth).rel_mse;
+    const double denoised = compare_images(out, truth).rel_mse;
+    EXPECT_LT(denoised, noisy / 3) << "noisy " << noisy << " denoised " << denoised;
+    expect_edge_kept(out);
+    // From two samples on, the film's own variance is used unchanged.
+    const Film two = noisy_step_film(2);
+    EXPECT_EQ(atrous_variance(two).rgb, two.variance_of_mean().rgb);
+}
+
 // The viewer keeps one AtrousDenoiser across frames (features laid out once): every call must give what a fresh
 // filter gives, also after a frame of another size, and the same whether the features came with the call.
 TEST(DenoiseAtrous, ReusedDenoiserMatchesFreshCalls) {
