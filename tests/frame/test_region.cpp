@@ -14,6 +14,7 @@
 #include "core/image/image_io.h"
 #include "core/load/scene_file.h"
 #include "tests/support/cli.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv {
 namespace {
@@ -152,20 +153,8 @@ TEST(RegionProgressive, RequestRegionReachesTheSnapshot) {
 // The CLI end to end.
 test::RunResult pathview(const std::string& args) { return test::run_command(PATHVIEW_BINARY, args); }
 
-struct CliDir {
-    fs::path path;
-    CliDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = fs::temp_directory_path() / ("pathview_region_" + std::to_string(::getpid()) + "_" + info->name());
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~CliDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string operator/(const std::string& name) const { return "'" + (path / name).string() + "'"; }
-    std::string file(const std::string& name) const { return (path / name).string(); }
+struct CliDir : test::TestDir {
+    CliDir() : TestDir("pathview_region") {}
 };
 
 const std::string kSize = " --width 24 --height 16 --threads 2 --spp 4 -q";

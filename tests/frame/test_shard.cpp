@@ -18,6 +18,7 @@
 #include "core/frame/renderer.h"
 #include "core/image/image_io.h"
 #include "tests/support/scenes.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv {
 namespace {
@@ -27,20 +28,8 @@ namespace fs = std::filesystem;
 constexpr int kW = 32, kH = 24;
 
 // A fresh folder per test, removed afterwards.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = fs::temp_directory_path() /
-               ("pathview_shard_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" + info->name());
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string operator/(const std::string& name) const { return (path / name).string(); }
+struct TempDir : test::TestDir {
+    TempDir() : TestDir("pathview_shard") {}
 };
 
 RenderSettings settings_with(SamplerKind kind, uint32_t seed = 0) {
@@ -88,7 +77,7 @@ TEST(ShardMerge, FourShardsOfSixtyFourEqualOneRender) {
         std::vector<PartialRender> parts;
         std::vector<std::string> names;
         for (uint32_t start : {48u, 16u, 0u, 32u}) {
-            names.push_back(dir / ("part" + std::to_string(start) + ".exr"));
+            names.push_back(dir.file("part" + std::to_string(start) + ".exr"));
             write_partial(names.back(), render_part(r, s, start, 16));
             parts.push_back(read_partial(names.back()));
         }
@@ -124,9 +113,9 @@ TEST(ShardMerge, FourShardsOfSixtyFourEqualOneRender) {
                     a.rgb.size());
 
         // The merged file carries the image as R, G, B and the half-buffer estimate of the merged sums.
-        write_partial(dir / "merged.exr", merged);
+        write_partial(dir.file("merged.exr"), merged);
         Metadata meta;
-        const Image from_file = read_exr(dir / "merged.exr", &meta);
+        const Image from_file = read_exr(dir.file("merged.exr"), &meta);
         EXPECT_EQ(from_file.rgb, b.rgb);
         EXPECT_EQ(meta["pathview:spp"], "64");
         EXPECT_EQ(meta["pathview:samples"], "0:64");
@@ -143,8 +132,8 @@ TEST(ShardResume, ContinuedPartEqualsOneRenderBitForBit) {
     const RenderSettings s = settings_with(SamplerKind::Sobol, 7);
     const Film single = render_part(r, s, 0, 64).film;
 
-    write_partial(dir / "first.exr", render_part(r, s, 0, 40));
-    const PartialRender part = read_partial(dir / "first.exr");
+    write_partial(dir.file("first.exr"), render_part(r, s, 0, 40));
+    const PartialRender part = read_partial(dir.file("first.exr"));
     // What `pathview render --resume` does: the part's sums, then indices from the part's end.
     r.restart(parse_camera(part.id.camera, "part"), parse_settings(part.id.settings, "part"), part.id.width,
               part.id.height);
@@ -161,8 +150,8 @@ TEST(ShardFormat, RoundTripIsExact) {
     const TempDir dir;
     Renderer& r = cornell_renderer();
     const PartialRender part = render_part(r, settings_with(SamplerKind::Sobol, 3), 5, 3);
-    write_partial(dir / "p.exr", part);
-    const PartialRender back = read_partial(dir / "p.exr");
+    write_partial(dir.file("p.exr"), part);
+    const PartialRender back = read_partial(dir.file("p.exr"));
     EXPECT_TRUE(same_pixels(part.film, back.film));
     EXPECT_EQ(back.id.version, part.id.version);
     EXPECT_EQ(back.id.scene_hash, part.id.scene_hash);
@@ -269,8 +258,8 @@ TEST(ShardFormat, RangesJoinedUpToTheIndexLimitReadBack) {
     const PartialRender m = merge_partials({a, b}, {"a.exr", "b.exr"});
     EXPECT_EQ(format_ranges(m.ranges), "0:4294967296");
     EXPECT_EQ(m.sample_count(), uint64_t(1) << 32);
-    write_partial(dir / "m.exr", m);
-    EXPECT_EQ(format_ranges(read_partial(dir / "m.exr").ranges), "0:4294967296");
+    write_partial(dir.file("m.exr"), m);
+    EXPECT_EQ(format_ranges(read_partial(dir.file("m.exr")).ranges), "0:4294967296");
 }
 
 // Issue 26, defect 8: an attribute string is quoted by a short prefix, not whole.
@@ -280,17 +269,17 @@ TEST(ShardBadInput, HugeAttributeStringsAreQuotedShort) {
     PartialRender p = render_part(r, settings_with(SamplerKind::Sobol), 0, 1);
     const PartialRender good = p;
     p.id.settings = std::string(1 << 20, 'x');
-    write_partial(dir / "settings.exr", p);
+    write_partial(dir.file("settings.exr"), p);
     p = good;
     p.id.camera = std::string(1 << 20, 'c');
-    write_partial(dir / "camera.exr", p);
+    write_partial(dir.file("camera.exr"), p);
     p = good;
     p.id.version = std::string(1 << 20, 'v');
-    write_partial(dir / "version.exr", p);
+    write_partial(dir.file("version.exr"), p);
     for (const char* name : {"settings.exr", "camera.exr", "version.exr"}) {
         std::string message;
         try {
-            read_partial(dir / name);
+            read_partial(dir.file(name));
         } catch (const Error& e) {
             message = e.what();
         }
@@ -366,28 +355,29 @@ TEST(ShardBadInput, DamagedForeignAndTruncatedFilesAreRefused) {
 
     PartialRender other_version = part;
     other_version.id.version = "pathview 0.0, partial format 1";
-    write_partial(dir / "old.exr", other_version);
-    expect_one_line_naming(error_of([&] { read_partial(dir / "old.exr"); }), dir / "old.exr",
+    write_partial(dir.file("old.exr"), other_version);
+    expect_one_line_naming(error_of([&] { read_partial(dir.file("old.exr")); }), dir.file("old.exr"),
                            "written by 'pathview 0.0");
 
-    write_exr(dir / "plain.exr", part.film.mean());
-    expect_one_line_naming(error_of([&] { read_partial(dir / "plain.exr"); }), dir / "plain.exr",
+    write_exr(dir.file("plain.exr"), part.film.mean());
+    expect_one_line_naming(error_of([&] { read_partial(dir.file("plain.exr")); }), dir.file("plain.exr"),
                            "not a partial render");
 
-    expect_one_line_naming(error_of([&] { read_partial(dir / "missing.exr"); }), dir / "missing.exr", "no such file");
+    expect_one_line_naming(error_of([&] { read_partial(dir.file("missing.exr")); }), dir.file("missing.exr"),
+                           "no such file");
 
     // Counts beyond the file's sample ranges.
     PartialRender overcounted = part;
     overcounted.ranges = {{0, 1}};
-    write_partial(dir / "over.exr", overcounted);
-    expect_one_line_naming(error_of([&] { read_partial(dir / "over.exr"); }), dir / "over.exr", "damaged");
+    write_partial(dir.file("over.exr"), overcounted);
+    expect_one_line_naming(error_of([&] { read_partial(dir.file("over.exr")); }), dir.file("over.exr"), "damaged");
 
     // Cut short at several lengths: in the header, in the offset table, in the pixels.
-    write_partial(dir / "whole.exr", part);
-    std::ifstream in(dir / "whole.exr", std::ios::binary);
+    write_partial(dir.file("whole.exr"), part);
+    std::ifstream in(dir.file("whole.exr"), std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     for (double fraction : {0.01, 0.2, 0.5, 0.9, 0.999}) {
-        const std::string cut = dir / "cut.exr";
+        const std::string cut = dir.file("cut.exr");
         std::ofstream(cut, std::ios::binary).write(bytes.data(), std::streamsize(double(bytes.size()) * fraction));
         expect_one_line_naming(error_of([&] { read_partial(cut); }), cut, "");
     }

@@ -19,6 +19,7 @@
 #include "core/image/image_io.h"
 #include "core/scene/texture.h"
 #include "tests/support/cli.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv {
 namespace {
@@ -27,29 +28,8 @@ namespace fs = std::filesystem;
 
 const std::string kSize = " --width 16 --height 12 --threads 2 -q";
 
-struct Dir {
-    fs::path path;
-    Dir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = fs::temp_directory_path() / ("pathview_partial_" + std::to_string(::getpid()) + "_" + info->name());
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~Dir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    // Quoted for the shell.
-    std::string operator/(const std::string& name) const { return "'" + (path / name).string() + "'"; }
-    std::string file(const std::string& name) const { return (path / name).string(); }
-    bool only(const std::vector<std::string>& names) const {  // the folder holds exactly these files
-        size_t n = 0;
-        for (const auto& e : fs::directory_iterator(path)) {
-            ++n;
-            if (std::find(names.begin(), names.end(), e.path().filename().string()) == names.end()) return false;
-        }
-        return n == names.size();
-    }
+struct Dir : test::TestDir {
+    Dir() : TestDir("pathview_partial") {}
 };
 
 test::RunResult pathview(const std::string& args) { return test::run_command(PATHVIEW_BINARY, args); }
@@ -115,7 +95,7 @@ TEST(UntrustedPartial, RangeAndShardTextIsStrict) {
     for (const char* bad : {"+1/4", "01/4", "1/4,", "' 1/4'"})
         expect_refused(pathview("render --spp 8 --shard " + std::string(bad) + kSize + " -o " + d / "x.exr"),
                        {"--shard", "expected INDEX/COUNT"});
-    EXPECT_TRUE(d.only({}));
+    EXPECT_TRUE(d.holds_only({}));
 }
 
 // Defect 4: merge's --exposure is finite and within render's range; a large one saturates in the PNG.
@@ -143,7 +123,7 @@ TEST(UntrustedPartial, MergeChecksEveryOutputFirst) {
     const test::RunResult r =
         pathview("merge " + d / "m.exr" + " " + d / "a.exr" + " -o " + d / "missing/dir/out.png -o " + d / "m.png");
     expect_refused(r, {d.file("missing/dir/out.png"), "does not exist"});
-    EXPECT_TRUE(d.only({"a.exr"}));
+    EXPECT_TRUE(d.holds_only({"a.exr"}));
 }
 
 // Defect 7: --aovs and --denoise with a partial render are refused (a part holds only the film's sums).
@@ -158,7 +138,7 @@ TEST(UntrustedPartial, LayersWithPartialRendersAreRefused) {
         expect_refused(pathview("render --resume " + d / "a.exr" + " --spp 1 -q " + flag + " -o " + d / "x.exr"),
                        {flag, "with --resume"});
     }
-    EXPECT_TRUE(d.only({"a.exr"}));
+    EXPECT_TRUE(d.holds_only({"a.exr"}));
 }
 
 // Defect 8: a 1 MB attribute string is quoted by a short prefix in the one error line.

@@ -25,6 +25,7 @@
 #include "tests/support/child.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv {
 namespace {
@@ -715,21 +716,8 @@ TEST(GltfLoader, MetallicRoughnessTextureIsLinearAndKeepsTheLobesItsTexelsNeed) 
 using test::ChildResult;
 using test::run_bounded;
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("pathview-gltf-" + std::to_string(::getpid()) + "-" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-    std::string file(const std::string& name, const std::string& bytes) const {
-        std::ofstream(path / name, std::ios::binary) << bytes;
-        return (path / name).string();
-    }
+struct TempDir : test::TestDir {
+    TempDir() : TestDir("pathview-gltf") {}
 };
 
 TEST(GltfLoader, DamagedFilesEndInOneLineNamingTheFileAndJsonPathWithinLittleMemory) {
@@ -748,65 +736,66 @@ TEST(GltfLoader, DamagedFilesEndInOneLineNamingTheFileAndJsonPathWithinLittleMem
     {
         Gltf g = good();
         cases.push_back({"missing .bin",
-                         dir.file("missing.gltf", g.text_with_bin("missing.bin")),
+                         dir.write("missing.gltf", g.text_with_bin("missing.bin")),
                          {"/buffers/0/uri: 'missing.bin' not found"}});
     }
     {
         const std::string glb = good().glb();
-        cases.push_back({"truncated .glb", dir.file("truncated.glb", glb.substr(0, glb.size() / 2)), {"truncated"}});
-        cases.push_back({"wrong magic", dir.file("magic.glb", "glTX" + glb.substr(4)), {"magic 'glTF'", "'glTX'"}});
+        cases.push_back({"truncated .glb", dir.write("truncated.glb", glb.substr(0, glb.size() / 2)), {"truncated"}});
+        cases.push_back({"wrong magic", dir.write("magic.glb", "glTX" + glb.substr(4)), {"magic 'glTF'", "'glTX'"}});
         std::string bad_bin = glb;  // the BIN chunk declaring 8 bytes more than the file holds
         const size_t bin_header = 20 + size_t(le_json_length(glb));
         uint32_t n;
         std::memcpy(&n, bad_bin.data() + bin_header, 4);
         n += 8;
         std::memcpy(bad_bin.data() + bin_header, &n, 4);
-        cases.push_back({"BIN chunk past the end", dir.file("binchunk.glb", bad_bin), {"BIN chunk declares"}});
+        cases.push_back({"BIN chunk past the end", dir.write("binchunk.glb", bad_bin), {"BIN chunk declares"}});
     }
     {
         Gltf g = good();
         g.j["accessors"][0]["count"] = 100;
-        cases.push_back({"accessor past its buffer", dir.file("past.gltf", g.text()), {"/accessors/0: count 100"}});
+        cases.push_back({"accessor past its buffer", dir.write("past.gltf", g.text()), {"/accessors/0: count 100"}});
         g.j["accessors"][0]["count"] = uint64_t(1) << 31;
-        cases.push_back({"count 2^31", dir.file("count.gltf", g.text()), {"/accessors/0: count 2147483648"}});
+        cases.push_back({"count 2^31", dir.write("count.gltf", g.text()), {"/accessors/0: count 2147483648"}});
         g.j["accessors"][0]["count"] = 3;
         g.j["bufferViews"][0]["byteLength"] = 4096;
-        cases.push_back({"bufferView past its buffer", dir.file("view.gltf", g.text()), {"/bufferViews/0: "}});
+        cases.push_back({"bufferView past its buffer", dir.write("view.gltf", g.text()), {"/bufferViews/0: "}});
     }
     {
         Gltf g = good();
         g.j["nodes"][0]["children"] = {1};
         g.j["nodes"].push_back({{"children", {0}}});
-        cases.push_back({"node cycle", dir.file("cycle.gltf", g.text()), {"/nodes/1/children/0: ", "cycle"}});
+        cases.push_back({"node cycle", dir.write("cycle.gltf", g.text()), {"/nodes/1/children/0: ", "cycle"}});
     }
     {
         Gltf g = good();
         const uint64_t gb = uint64_t(1) << 30;
         cases.push_back({"1 GB declared in a data URI",
-                         dir.file("huge.gltf", g.text(gb)),
+                         dir.write("huge.gltf", g.text(gb)),
                          {"/buffers/0/byteLength: declares 1073741824"}});
         cases.push_back({"1 GB declared in a .glb",
-                         dir.file("huge.glb", g.glb(gb)),
+                         dir.write("huge.glb", g.glb(gb)),
                          {"/buffers/0/byteLength: declares 1073741824"}});
-        dir.file("small.bin", g.bin);
+        dir.write("small.bin", g.bin);
         cases.push_back({"1 GB declared for a small .bin",
-                         dir.file("huge-bin.gltf", g.text_with_bin("small.bin", gb)),
+                         dir.write("huge-bin.gltf", g.text_with_bin("small.bin", gb)),
                          {"/buffers/0/byteLength: declares 1073741824", "has " + std::to_string(g.bin.size())}});
     }
     {
         Gltf g = good();
         g.j["meshes"][0]["primitives"][0]["indices"] =
             g.accessor(g.view(bytes_of<uint16_t>({0, 1, 3})), kUShort, 3, "SCALAR");
-        cases.push_back(
-            {"index past the vertices", dir.file("index.gltf", g.text()), {"/meshes/0/primitives/0/indices: index 3"}});
+        cases.push_back({"index past the vertices",
+                         dir.write("index.gltf", g.text()),
+                         {"/meshes/0/primitives/0/indices: index 3"}});
         // The largest 32-bit index (a float rounds it to 2^32, whose cast to uint32_t was undefined: fuzz_gltf).
         g.j["meshes"][0]["primitives"][0]["indices"] =
             g.accessor(g.view(bytes_of<uint32_t>({0, 1, 4294967295u})), kUInt, 3, "SCALAR");
         cases.push_back({"index 2^32 - 1",
-                         dir.file("index32.gltf", g.text()),
+                         dir.write("index32.gltf", g.text()),
                          {"/meshes/0/primitives/0/indices: index 4294967295"}});
     }
-    cases.push_back({"not JSON", dir.file("garbage.gltf", "{\"asset\": [1, 2"), {"invalid JSON"}});
+    cases.push_back({"not JSON", dir.write("garbage.gltf", "{\"asset\": [1, 2"), {"invalid JSON"}});
     {
         // A mesh of 4096 vertices (48 kB) placed 2^15 times through nodes that name their child twice: 2^27
         // vertices (8 GB) from a 64 kB file.
@@ -819,14 +808,14 @@ TEST(GltfLoader, DamagedFilesEndInOneLineNamingTheFileAndJsonPathWithinLittleMem
         g.node({{"mesh", mesh}});
         g.scene({0});
         cases.push_back(
-            {"instancing bomb", dir.file("bomb.gltf", g.text()), {"/meshes/0/primitives/0: the scene would exceed"}});
+            {"instancing bomb", dir.write("bomb.gltf", g.text()), {"/meshes/0/primitives/0: the scene would exceed"}});
         // 2^21 node visits of nothing.
         Gltf h;
         for (int k = 0; k < 21; ++k) h.node({{"children", {k + 1, k + 1}}});
         h.node(json::object());
         h.scene({0});
         h.view("abcd");
-        cases.push_back({"node visits", dir.file("visits.gltf", h.text()), {"node instances"}});
+        cases.push_back({"node visits", dir.write("visits.gltf", h.text()), {"node instances"}});
     }
 
     const ChildResult idle = run_bounded([] { return 0; });
@@ -865,12 +854,12 @@ TEST(GltfLoader, SceneFileNamesAGltfFileWithItsCameraOverridesAndBookmarks) {
     g.j["cameras"] = {
         {{"name", "file view"}, {"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
     g.scene({g.node({{"mesh", tri}}), g.node({{"camera", 0}, {"translation", {0, 0, 5}}})});
-    dir.file("model.glb", g.glb());
+    dir.write("model.glb", g.glb());
     // Without "camera": the file's camera; with it, the JSON's; the file's cameras come before the JSON's bookmarks.
-    const Scene a = load_scene(dir.file("a.json", R"({"obj": "model.glb", "background": [0.1, 0.1, 0.1]})"));
+    const Scene a = load_scene(dir.write("a.json", R"({"obj": "model.glb", "background": [0.1, 0.1, 0.1]})"));
     expect_near(a.camera.eye, vec3(0, 0, 5));
     EXPECT_EQ(a.environment.background, vec3(0.1f));
-    const Scene b = load_scene(dir.file(
+    const Scene b = load_scene(dir.write(
         "b.json", R"({"obj": "model.glb", "camera": {"eye": [1, 2, 3]}, "bookmarks": [{"name": "mine", "fov": 30}]})"));
     expect_near(b.camera.eye, vec3(1, 2, 3));
     ASSERT_EQ(b.bookmarks.size(), 2u);
@@ -892,13 +881,13 @@ TEST(GltfLoader, ExternalBinAndImageFilesWithPercentEncodedNames) {
                             {"TEXCOORD_0", g.floats({0, 0, 1, 0, 0, 1}, "VEC2", 2)}},
                            -1, -1, 0);
     const uint8_t px[4][4] = {{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 255, 255}};
-    dir.file("my texture.tga", tga_2x2(px));
+    dir.write("my texture.tga", tga_2x2(px));
     g.j["images"] = {{{"uri", "my%20texture.tga"}}};
     g.j["textures"] = {{{"source", 0}}};
     g.j["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
     g.scene({g.node({{"mesh", tri}})});
-    dir.file("my mesh.bin", g.bin);
-    const Scene s = load_scene(dir.file("external.gltf", g.text_with_bin("my%20mesh.bin")));
+    dir.write("my mesh.bin", g.bin);
+    const Scene s = load_scene(dir.write("external.gltf", g.text_with_bin("my%20mesh.bin")));
     for (const std::string& w : s.warnings) EXPECT_NE(w.find("no emitter"), std::string::npos) << w;
     ASSERT_EQ(s.triangle_count(), 1u);
     ASSERT_NE(s.materials[0].base_color_texture, kNoIndex);
@@ -971,8 +960,8 @@ TEST(GltfCornellBox, RendersTheObjImageWithinNoiseAndGlbEqualsGltfBitForBit) {
     auto obj = test::cornell_box();
     TempDir dir;
     const Gltf g = cornell_as_gltf(obj_only, obj->camera);
-    const std::string gltf_path = dir.file("cornell.gltf", g.text());
-    const std::string glb_path = dir.file("cornell.glb", g.glb());
+    const std::string gltf_path = dir.write("cornell.gltf", g.text());
+    const std::string glb_path = dir.write("cornell.glb", g.glb());
     auto from_gltf = std::make_shared<Scene>(load_scene(gltf_path));
     auto from_glb = std::make_shared<Scene>(load_scene(glb_path));
     ASSERT_EQ(from_gltf->triangle_count(), obj->triangle_count());

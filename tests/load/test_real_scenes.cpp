@@ -16,6 +16,7 @@
 #include "core/scene/environment.h"
 #include "support/scenes.h"
 #include "support/stats.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv {
 namespace {
@@ -24,23 +25,8 @@ using test::Moments;
 using test::sidak_k;
 
 // A fresh folder under the system temp dir, removed at the end of the test.
-struct TempDir {
-    std::filesystem::path path;
-    TempDir() {
-        path = std::filesystem::temp_directory_path() /
-               ("pathview-test-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        std::filesystem::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        std::filesystem::remove_all(path, ec);
-    }
-    std::string file(const std::string& name, const std::string& text) const {
-        const auto p = path / name;
-        std::ofstream(p, std::ios::binary) << text;
-        return p.string();
-    }
+struct TempDir : test::TestDir {
+    TempDir() : TestDir("pathview-test") {}
 };
 
 // A unit quad in the z = 0 plane, uv = xy, facing +z.
@@ -104,9 +90,9 @@ TEST(Textures, LoadedScenesKeepTheirTexelsAndTheSkyInOneRegion) {
     for (int y = 0; y < 5; ++y)
         for (int x = 0; x < 3; ++x) img.set(x, y, vec3(float(x) / 2.f, float(y) / 4.f, 0.5f));
     write_png((dir.path / "checker.png").string(), img);
-    dir.file("quad.mtl", "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd checker.png\n");
-    const std::string obj = dir.file("quad.obj", kQuadObj);
-    const std::string json = dir.file("quad.json", R"({"obj": "quad.obj", "environment": {"map": "sky"}})");
+    dir.write("quad.mtl", "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd checker.png\n");
+    const std::string obj = dir.write("quad.obj", kQuadObj);
+    const std::string json = dir.write("quad.json", R"({"obj": "quad.obj", "environment": {"map": "sky"}})");
     for (const std::string& path : {obj, json}) {
         const Scene scene = load_scene(path);
         ASSERT_EQ(scene.textures.size(), 2u) << path << ": the quad's texture and the sky";
@@ -130,8 +116,8 @@ TEST(Textures, QuadShowsTheTexelUnderEachPoint) {
     img.set(0, 1, vec3(0, 0, 1));
     img.set(1, 1, vec3(1, 1, 1));
     write_png((dir.path / "Checker.png").string(), img);
-    dir.file("quad.mtl", "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd checker.PNG\n");  // wrong case on purpose
-    auto scene = std::make_shared<Scene>(load_obj(dir.file("quad.obj", kQuadObj)));
+    dir.write("quad.mtl", "newmtl tex\nKd 0.5 0.5 0.5\nmap_Kd checker.PNG\n");  // wrong case on purpose
+    auto scene = std::make_shared<Scene>(load_obj(dir.write("quad.obj", kQuadObj)));
     ASSERT_EQ(scene->textures.size(), 1u) << "the case-insensitive match should find Checker.png";
     scene->environment.background = vec3(1.f);
     const test::Tracer tracer(scene);
@@ -156,8 +142,8 @@ TEST(Textures, QuadShowsTheTexelUnderEachPoint) {
 
 TEST(Textures, MissingTextureWarnsOnceAndKeepsTheFlatColour) {
     TempDir dir;
-    dir.file("quad.mtl", "newmtl tex\nKd 0.25 0.5 0.75\nmap_Kd nowhere.png\n");
-    auto scene = std::make_shared<Scene>(load_obj(dir.file("quad.obj", kQuadObj)));
+    dir.write("quad.mtl", "newmtl tex\nKd 0.25 0.5 0.75\nmap_Kd nowhere.png\n");
+    auto scene = std::make_shared<Scene>(load_obj(dir.write("quad.obj", kQuadObj)));
     size_t warnings = 0;
     for (const auto& w : scene->warnings) warnings += w.find("nowhere.png") != std::string::npos;
     EXPECT_EQ(warnings, 1u);
@@ -184,7 +170,7 @@ TEST(Textures, AlphaCutOutPassesLightInProportion) {
     mask.set(0, 0, vec3(lin));
     write_png((dir.path / "mask.png").string(), mask);
     const float a = byte_value;  // the opacity the loader will read
-    dir.file("scene.mtl", "newmtl occluder\nKd 0 0 0\nmap_d mask.png\nnewmtl receiver\nKd 1 1 1\n");
+    dir.write("scene.mtl", "newmtl occluder\nKd 0 0 0\nmap_d mask.png\nnewmtl receiver\nKd 1 1 1\n");
     const float half = 500.f, h = 1.f;
     const std::string obj =
         "mtllib scene.mtl\n"
@@ -192,7 +178,7 @@ TEST(Textures, AlphaCutOutPassesLightInProportion) {
         "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
         "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
         "usemtl occluder\nf 1/1 2/2 3/3 4/4\nusemtl receiver\nf 5 6 7 8\n";
-    auto scene = std::make_shared<Scene>(load_obj(dir.file("scene.obj", obj)));
+    auto scene = std::make_shared<Scene>(load_obj(dir.write("scene.obj", obj)));
     ASSERT_NE(scene->materials[0].alpha_texture, kNoIndex);
     scene->environment.background = vec3(1.f);
     const test::Tracer tracer(scene);
@@ -414,7 +400,7 @@ TEST(Environment, EmitsAgreesWithTheFullEnvironment) {
 
 TEST(Environment, UnlitSceneGetsTheDefaultSkyAndSaysSo) {
     TempDir dir;
-    const std::string obj = dir.file("plane.obj", "v 0 0 0\nv 1 0 0\nv 1 0 1\nf 1 3 2\n");
+    const std::string obj = dir.write("plane.obj", "v 0 0 0\nv 1 0 0\nv 1 0 1\nf 1 3 2\n");
     const Scene scene = load_scene(obj);
     EXPECT_NE(scene.environment_map, kNoIndex);
     size_t said = 0;
@@ -423,7 +409,7 @@ TEST(Environment, UnlitSceneGetsTheDefaultSkyAndSaysSo) {
     ASSERT_TRUE(scene.default_sky_warning.has_value());
     EXPECT_NE(scene.warnings[*scene.default_sky_warning].find("default sky"), std::string::npos);
     // A scene file that sets its background keeps it.
-    dir.file("s.json", R"({"obj": "plane.obj", "background": [0.1, 0.2, 0.3]})");
+    dir.write("s.json", R"({"obj": "plane.obj", "background": [0.1, 0.2, 0.3]})");
     const Scene lit = load_scene((dir.path / "s.json").string());
     EXPECT_EQ(lit.environment_map, kNoIndex);
     EXPECT_FLOAT_EQ(lit.environment.background.y, 0.2f);
@@ -480,8 +466,8 @@ TEST(MtlQuirks, BothDAndTrFoldIntoOneWarning) {
     TempDir dir;
     std::string mtl;
     for (int i = 0; i < 12; ++i) mtl += "newmtl m" + std::to_string(i) + "\nKd 0.5 0.5 0.5\nd 1\nTr 0\n";
-    dir.file("q.mtl", mtl);
-    const Scene s = load_obj(dir.file("q.obj", "mtllib q.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nusemtl m3\nf 1 2 3\n"));
+    dir.write("q.mtl", mtl);
+    const Scene s = load_obj(dir.write("q.obj", "mtllib q.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nusemtl m3\nf 1 2 3\n"));
     size_t dtr = 0;
     for (const auto& x : s.warnings) dtr += x.find("both d and Tr") != std::string::npos;
     EXPECT_EQ(dtr, 1u);
@@ -507,7 +493,7 @@ TEST(LargeMeshSlow, TwoMillionTrianglesInBoundedMemory) {
             std::snprintf(buf, sizeof buf, "f %d %d %d %d\n", a, a + 1, a + n + 2, a + n + 1);
             obj += buf;
         }
-    const std::string path = dir.file("grid.obj", obj);
+    const std::string path = dir.write("grid.obj", obj);
     obj.clear();
     obj.shrink_to_fit();
     auto scene = std::make_shared<Scene>(load_obj(path));
@@ -532,8 +518,8 @@ namespace {
 
 TEST(Bookmarks, SavedWithTheSceneFileAndReloaded) {
     TempDir dir;
-    dir.file("tri.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
-    const std::string json_path = dir.file("s.json", R"({"obj": "tri.obj", "background": [0.5, 0.5, 0.5]})");
+    dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
+    const std::string json_path = dir.write("s.json", R"({"obj": "tri.obj", "background": [0.5, 0.5, 0.5]})");
     CameraDesc a;
     a.eye = vec3(1, 2, 3);
     a.target = vec3(0.5f, 0.5f, 0.f);
