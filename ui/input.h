@@ -26,9 +26,9 @@ struct InputQueue {
     bool any = false;                  // something happened: draw a frame
     bool urgent = false;               // a press, scroll, drop or drag: draw it without waiting a whole refresh
     double first_event = -1.0;         // glfwGetTime() of the first event not yet handled (for the latency figure)
-    void note(bool press = false) {
+    void note(bool urgent_event = false) {
         any = true;
-        urgent = urgent || press;
+        urgent = urgent || urgent_event;
         if (first_event < 0.0) first_event = glfwGetTime();
     }
 };

@@ -23,6 +23,9 @@ using Ptr = json::json_pointer;
 constexpr uint64_t kMaxJsonBytes = uint64_t(64) << 20;
 
 void use_default_sky_if_unlit(Scene& scene, bool lighting_given, bool sealed_start);
+// Sets scene.camera to the start view (core/load/start_view.h: inside an interior, else framed); true when that view
+// is sealed (inside a room every probe of which hits a surface).
+bool place_at_start_view(Scene& scene);
 // set_environment_map without packing the texels: the loaders pack them once, when the scene is complete.
 void add_environment_map(Scene& scene, const std::string& spec);
 
@@ -272,15 +275,12 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     const JsonReader rs{path, &scene.warnings};
     if (j.contains("background")) scene.environment.background = r.vec(j["background"], root / "background", 0.f, kBig);
     // No camera in the file: the start view (core/load/start_view.h), unless "camera" gives one (over the framing).
-    bool sealed_start = false;  // the start view is inside a room every probe of which hits a surface
+    bool sealed_start = false;
     if (!scene.has_camera) {
-        if (j.contains("camera")) {
+        if (j.contains("camera"))
             scene.camera = scene.framing_camera();
-        } else {
-            const StartView start = choose_start_view(scene);
-            scene.camera = start.camera;
-            sealed_start = start.sealed;
-        }
+        else
+            sealed_start = place_at_start_view(scene);
     }
     if (j.contains("camera")) {
         scene.camera = read_camera(r, cam, root / "camera", scene.camera, false);
@@ -298,6 +298,12 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
 }
 
 namespace {
+
+bool place_at_start_view(Scene& scene) {
+    const StartView start = choose_start_view(scene);
+    scene.camera = start.camera;
+    return start.sealed;
+}
 
 void use_default_sky_if_unlit(Scene& scene, bool lighting_given, bool sealed_start) {
     if (lighting_given || scene.has_emitters() || scene.triangles.empty()) return;
@@ -383,12 +389,7 @@ Scene load_scene(const std::string& path) {
         return load_scene_json_text(read_regular_file(path, kMaxJsonBytes, "a JSON scene file"), path);
     if (ext == ".obj" || ext == ".OBJ" || is_gltf_path(path)) {
         Scene scene = is_gltf_path(path) ? load_gltf(path) : load_obj(path);
-        bool sealed_start = false;
-        if (!scene.has_camera) {  // inside an interior, else framed
-            const StartView start = choose_start_view(scene);
-            scene.camera = start.camera;
-            sealed_start = start.sealed;
-        }
+        const bool sealed_start = !scene.has_camera && place_at_start_view(scene);
         use_default_sky_if_unlit(scene, !scene.punctual_lights.empty(), sealed_start);  // glTF punctual lights
         pack_texels(scene.textures);  // the surfaces' textures and the sky in one region, on huge pages
         return scene;

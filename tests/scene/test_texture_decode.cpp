@@ -189,6 +189,18 @@ Texture stb_texture(const std::string& bytes, bool alpha_only) {
     return Texture(w, h, std::move(codes));
 }
 
+// `bytes` decoded by Texture::decode (as `name`) into `ours` and by stb_image, the decoder it replaced, into `stb`;
+// both must be w x h, and decode must not warn.
+void decode_both(const std::string& bytes, const char* name, bool alpha_only, int w, int h, const std::string& what,
+                 Texture& ours, Texture& stb) {
+    std::vector<std::string> warnings;
+    ours = Texture::decode(bytes, name, alpha_only, &warnings);
+    stb = stb_texture(bytes, alpha_only);
+    ASSERT_EQ(ours.width(), w) << what;
+    ASSERT_EQ(ours.height(), h) << what;
+    EXPECT_TRUE(warnings.empty()) << what << ": " << warnings[0];
+}
+
 // The 8-bit sRGB code of a linear texel value (its inverse, srgb_code_to_linear, is exact on codes).
 int code_of(float linear) {
     int best = 0;
@@ -228,11 +240,8 @@ TEST(TextureDecode, PngOfEveryColourTypeAndDepthDecodesAsStbImageDid) {
     for (const auto& [spec, what] : specs) {
         const std::string bytes = write_png_bytes(37, 23, spec);
         for (bool alpha_only : {false, true}) {
-            std::vector<std::string> warnings;
-            const Texture t = Texture::decode(bytes, "t.png", alpha_only, &warnings);
-            const Texture ref = stb_texture(bytes, alpha_only);
-            ASSERT_EQ(t.width(), 37) << what;
-            ASSERT_EQ(t.height(), 23) << what;
+            Texture t, ref;
+            ASSERT_NO_FATAL_FAILURE(decode_both(bytes, "t.png", alpha_only, 37, 23, what, t, ref));
             EXPECT_EQ(t.has_alpha(), ref.has_alpha()) << what;
             const std::vector<vec4> a = t.texels(), b = ref.texels();
             size_t differ = 0;
@@ -240,7 +249,6 @@ TEST(TextureDecode, PngOfEveryColourTypeAndDepthDecodesAsStbImageDid) {
                 differ += a[i] != b[i];
             }
             EXPECT_EQ(differ, 0u) << what << (alpha_only ? " (alpha only)" : "");
-            EXPECT_TRUE(warnings.empty()) << what << ": " << warnings[0];
         }
     }
 }
@@ -266,12 +274,8 @@ TEST(TextureDecode, JpegDecodesAsStbImageDidWithinRounding) {
     files.emplace_back(stb_jpg, "stb_image_write");
     for (const auto& [bytes, what] : files) {
         for (bool alpha_only : {false, true}) {
-            std::vector<std::string> warnings;
-            const Texture t = Texture::decode(bytes, "t.jpg", alpha_only, &warnings);
-            const Texture ref = stb_texture(bytes, alpha_only);
-            ASSERT_EQ(t.width(), 61) << what;
-            ASSERT_EQ(t.height(), 43) << what;
-            EXPECT_TRUE(warnings.empty()) << what << ": " << warnings[0];
+            Texture t, ref;
+            ASSERT_NO_FATAL_FAILURE(decode_both(bytes, "t.jpg", alpha_only, 61, 43, what, t, ref));
             const std::vector<vec4> a = t.texels(), b = ref.texels();
             int worst = 0;
             double sum = 0;
