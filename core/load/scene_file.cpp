@@ -397,6 +397,8 @@ Scene load_scene(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec))
         throw Error(path + ": no such file; expected a .json scene, an .obj, a .gltf or a .glb");
+    if (std::filesystem::is_directory(path, ec))
+        throw Error(path + ": is a folder; expected a .json scene, an .obj, a .gltf or a .glb");
     throw Error(path + ": unknown scene format '" + ext + "'; expected .json, .obj, .gltf or .glb");
 }
 

@@ -77,6 +77,10 @@ TEST(BadInput, MissingFile) {
 
 // ---------------------------------------------------------------- warnings, and what loads
 
+TEST(BadInput, FolderIsNamedAsAFolder) {
+    EXPECT_EQ(load_error(""), data("") + ": is a folder; expected a .json scene, an .obj, a .gltf or a .glb");
+}
+
 TEST(BadInput, NanVertexDropsItsTriangleWithLine) {
     const Scene s = load_scene(data("v_nan.obj"));
     EXPECT_EQ(s.triangles.size(), 1u);
