@@ -14,6 +14,7 @@
 #include "core/sampling/warp.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv {
 namespace {
@@ -228,21 +229,8 @@ TEST(Math, SafeNormalizeHandlesHugeAndTinyVectorsWithFlushToZero) {
 
 // ---------------------------------------------------------------- EXR
 
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        path = fs::temp_directory_path() / ("pathview_test_" + std::to_string(::getpid()) + "_" +
-                                            std::to_string(reinterpret_cast<uintptr_t>(this)));
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
-
 TEST(Exr, RoundTripIsExactFloatWithMetadata) {
-    TempDir dir;
+    const test::TestDir dir("pathview_exr");
     Image img(7, 5);
     Pcg32 rng(9, 9);
     for (float& v : img.rgb) v = rng.next_float() * 100.f;
@@ -268,7 +256,7 @@ TEST(Exr, RoundTripIsExactFloatWithMetadata) {
 }
 
 TEST(Exr, UnwritablePathThrowsNamingTheFileAndLeavesNoTemp) {
-    TempDir dir;
+    const test::TestDir dir("pathview_exr");
     const Image img(4, 4);
     // A folder that does not exist.
     const std::string missing = (dir.path / "nope" / "out.exr").string();
@@ -307,7 +295,7 @@ TEST(Exr, UnwritablePathThrowsNamingTheFileAndLeavesNoTemp) {
 }
 
 TEST(Exr, ReadingAMissingOrBrokenFileThrowsNamingIt) {
-    TempDir dir;
+    const test::TestDir dir("pathview_exr");
     const std::string missing = (dir.path / "missing.exr").string();
     EXPECT_THROW(read_exr(missing), Error);
     const std::string junk = (dir.path / "junk.exr").string();

@@ -2,8 +2,6 @@
 // pv::Error naming the file and line, or loads with the documented warning; none crashes. Then the CLI:
 // `pathview render` with a missing scene or an unwritable output exits non-zero with one line naming the file.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -16,6 +14,7 @@
 #include "core/load/scene_file.h"
 #include "tests/support/cli.h"
 #include "tests/support/scenes.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv {
 namespace {
@@ -231,7 +230,8 @@ TEST(BadInputCli, UnwritableOutputExitsNonZeroWithOneLine) {
     EXPECT_EQ(line_count(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find(nodir), std::string::npos) << r.err;
 
-    const fs::path as_dir = fs::temp_directory_path() / ("pathview_cli_dir_" + std::to_string(::getpid()) + ".exr");
+    const test::TestDir tmp("pathview_cli");
+    const fs::path as_dir = tmp.path / "out.exr";
     fs::create_directories(as_dir / "keep");
     r = run_pathview("render --spp 1 --width 8 --height 8 -q -o '" + as_dir.string() + "'");
     EXPECT_NE(r.exit_code, 0);
@@ -241,14 +241,12 @@ TEST(BadInputCli, UnwritableOutputExitsNonZeroWithOneLine) {
     for (const auto& e : fs::directory_iterator(as_dir.parent_path()))
         EXPECT_EQ(e.path().filename().string().find(as_dir.filename().string() + ".tmp"), std::string::npos)
             << "left " << e.path();
-    fs::remove_all(as_dir);
 }
 
 // bench with these --denoise-spp points fails with one line containing `expected`, before anything is rendered.
 void expect_bench_denoise_spp_refused(const std::string& points, const std::string& expected) {
-    const fs::path ref = fs::temp_directory_path() / ("pathview_cli_ref1_" + std::to_string(::getpid()) + ".exr");
-    std::error_code ec;
-    fs::remove(ref, ec);
+    const test::TestDir tmp("pathview_cli");
+    const fs::path ref = tmp.path / "ref.exr";
     const RunResult r = run_pathview(
         "bench --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind --seeds 1 --max-spp 16 -q --csv '' "
         "--svg '' --denoise-spp " +
@@ -257,10 +255,8 @@ void expect_bench_denoise_spp_refused(const std::string& points, const std::stri
     EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(ref)) << "the reference was rendered before --denoise-spp was checked";
-    fs::remove(ref, ec);
 }
 
-// bench --denoise-spp takes points of the series only (powers of two).
 // bench --denoise-spp takes points of the series only (powers of two).
 TEST(BadInputCli, BenchDenoiseSppMustBeAPointOfTheSeries) {
     expect_bench_denoise_spp_refused("16,12", "--denoise-spp: 12");
@@ -272,14 +268,10 @@ TEST(BadInputCli, BenchDenoiseSppBeyondMaxSppIsRefused) {
     expect_bench_denoise_spp_refused("32", "--denoise-spp: 32 is beyond --max-spp 16");
 }
 
-// render, view and bench set a scene up through one function (issue 10, item 6): bench applies --environment and
-// --sun as render does. A scene without emitters gets the default sky; --environment 0 makes it black everywhere,
-// --sun then lights it. Before, bench ignored both (its reference was lit by the default sky).
 // An unwritable --csv is found before measuring: nothing is rendered (not even the reference), one line names it.
 TEST(BadInputCli, BenchChecksItsOutputsBeforeMeasuring) {
-    const fs::path ref = fs::temp_directory_path() / ("pathview_cli_ref0_" + std::to_string(::getpid()) + ".exr");
-    std::error_code ec;
-    fs::remove(ref, ec);
+    const test::TestDir tmp("pathview_cli");
+    const fs::path ref = tmp.path / "ref.exr";
     const RunResult r = run_pathview(
         "bench --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind --seeds 1 "
         "--budget 0.001 --max-spp 1 -q --csv /nonexistent-pathview-dir/b.csv --svg '' "
@@ -289,11 +281,14 @@ TEST(BadInputCli, BenchChecksItsOutputsBeforeMeasuring) {
     EXPECT_EQ(test::line_count(r.err), 1u) << r.err;
     EXPECT_NE(r.err.find("/nonexistent-pathview-dir/b.csv"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(ref)) << "the reference was rendered before the output was checked";
-    fs::remove(ref, ec);
 }
 
+// render, view and bench set a scene up through one function (issue 10, item 6): bench applies --environment and
+// --sun as render does. A scene without emitters gets the default sky; --environment 0 makes it black everywhere,
+// --sun then lights it. Before, bench ignored both (its reference was lit by the default sky).
 TEST(BadInputCli, BenchAppliesTheEnvironmentAndSunOverrides) {
-    const fs::path ref = fs::temp_directory_path() / ("pathview_cli_ref_" + std::to_string(::getpid()) + ".exr");
+    const test::TestDir tmp("pathview_cli");
+    const fs::path ref = tmp.path / "ref.exr";
     const std::string bench = "bench '" + data("crlf.obj") +
                               "' --width 6 --height 6 --reference-spp 8 --configs mis/rr/ind "
                               "--seeds 1 --budget 0.001 --max-spp 1 --csv '' --svg '' -q --save-reference '" +
@@ -311,7 +306,6 @@ TEST(BadInputCli, BenchAppliesTheEnvironmentAndSunOverrides) {
         }
         EXPECT_EQ(r.err.find("default sky"), std::string::npos) << r.err;
     }
-    fs::remove(ref);
 }
 
 }  // namespace

@@ -2,7 +2,6 @@
 // starts inside, looking along its long axis; objects (a closed sphere, a box open at its front with blocks in it) keep
 // the outside framing bit for bit; load_scene gives OBJ and JSON scenes without a camera that view.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -10,6 +9,7 @@
 #include "core/load/scene_file.h"
 #include "core/load/start_view.h"
 #include "tests/support/scenes.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv {
 namespace {
@@ -110,8 +110,8 @@ TEST(StartView, ObjectsKeepTheOutsideFramingBitForBit) {
 // Scenes loaded without a camera (pathview render SCENE and pathview view both go through load_scene) start from
 // choose_start_view's camera: inside the room, outside the sphere; a JSON scene's "camera" still wins.
 TEST(StartView, LoadSceneStartsFromIt) {
-    const fs::path dir = fs::temp_directory_path() / ("pv_start_view_" + std::to_string(::getpid()));
-    fs::create_directories(dir);
+    const test::TestDir tmp("pathview_start_view");
+    const fs::path& dir = tmp.path;
     auto write_obj = [&](const Scene& s, const std::string& name) {
         std::ofstream f(dir / name);
         for (const vec3& p : s.positions) f << "v " << p.x << " " << p.y << " " << p.z << "\n";
