@@ -22,6 +22,7 @@ struct MergeOptions {
     std::vector<std::string> more_outs;  // every -o
     std::vector<std::string> parts;
     float exposure = 0.f;
+    DisplayOptions display;
     std::string require;  // --require START:COUNT[,...]: the ranges the parts must cover, exactly
     double max_image_megapixels = double(ImageLimits{}.max_pixels) * 1e-6;  // the budget of every image reader
 };
@@ -42,6 +43,7 @@ void run(const MergeOptions& o) {
     const std::string required =
         o.require.empty() ? "" : format_ranges(parse_ranges(o.require, "--require " + quote_prefix(o.require)));
     set_image_limits(ImageLimits{uint64_t(o.max_image_megapixels * 1e6)});
+    const DisplayTransform display = resolve_display(o.display, ViewTransform::Clamp);  // before any part is read
     const PartialRender merged =
         merge_partial_files(o.parts, [&](int w, int h) { check_merge_memory(o.parts.front(), w, h); });
     if (!o.require.empty() && format_ranges(merged.ranges) != required)
@@ -58,7 +60,7 @@ void run(const MergeOptions& o) {
         if (has_ext(out, ".exr", ".EXR"))
             write_partial(out, merged);
         else
-            write_png(out, image);
+            write_png(out, image, display);
     }
     std::printf("pathview: merged %zu parts, samples %s (%llu spp), %dx%d, estimated relMSE %.3g -> %s\n",
                 o.parts.size(), format_ranges(merged.ranges).c_str(),
@@ -88,6 +90,7 @@ void add_merge_command(CLI::App& app) {
                             "Largest partial render read, in megapixels (as render's budget for images); larger parts, "
                             "or parts implausibly small for their size, are refused before any pixel is read");
     add_exposure_option(*cmd, o->exposure, "Exposure in stops for PNG outputs");
+    add_display_options(*cmd, o->display, "clamp");
     cmd->callback([o] { run(*o); });
 }
 

@@ -34,6 +34,7 @@ struct RenderOptions {
     std::optional<double> seconds;
     std::vector<std::string> outs;  // every -o: the same render written to each
     float exposure = 0.f;
+    DisplayOptions display;  // --view-transform and OpenColorIO: PNG outputs
     bool quiet = false;
     std::string samples;  // --samples START:COUNT: a partial render (core/frame/partial.h)
     std::string resume;   // --resume PART.exr: continue a partial render
@@ -206,7 +207,7 @@ OutputOptions output_options(const RenderOptions& o) {
 
 // Writes every -o (a partial render's EXRs as partial files); returns their names, comma-separated.
 std::string write_outputs(const RenderOptions& o, const Renderer& renderer, const RenderPlan& plan,
-                          const RenderOutput& out) {
+                          const RenderOutput& out, const DisplayTransform& display) {
     std::optional<PartialRender> part;
     if (plan.samples) {
         std::vector<SampleRange> ranges{{plan.samples->start, renderer.stats().spp}};
@@ -224,7 +225,7 @@ std::string write_outputs(const RenderOptions& o, const Renderer& renderer, cons
         else if (out.layers.size() > 1 && exr)
             write_exr_layers(file, out.image.width, out.image.height, out.layers, out.metadata);
         else
-            write_image(file, out.image, out.metadata);
+            write_image(file, out.image, out.metadata, display);  // the exposure is in out.image already
         written += (written.empty() ? "" : ", ") + file;
     }
     return written;
@@ -292,6 +293,7 @@ void run(RenderOptions& o) {
     o.common.scene = plan.scene;
     check_outputs(o.outs);
     check_film_memory(o.common.width, o.common.height);
+    const DisplayTransform display = resolve_display(o.display, ViewTransform::Clamp);  // before the render
     std::optional<PixelRect> region;
     if (!o.region.empty()) region = parse_region(o.region, o.common.width, o.common.height, "--region");
 
@@ -310,7 +312,7 @@ void run(RenderOptions& o) {
     start_render(*renderer, o, plan, camera, region);
     render_passes(*renderer, plan, o.quiet);
     const RenderOutput out = finish_render(*renderer, output_options(o));
-    print_summary(o, *renderer, out, write_outputs(o, *renderer, plan, out));
+    print_summary(o, *renderer, out, write_outputs(o, *renderer, plan, out, display));
 }
 
 }  // namespace
@@ -319,7 +321,7 @@ void add_render_command(CLI::App& app) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* cmd = app.add_subcommand("render",
                                        "Render a scene headless to an OpenEXR (linear FLOAT RGB + metadata) "
-                                       "or PNG (tone-mapped sRGB) file");
+                                       "or PNG (through --view-transform) file");
     add_common_options(*cmd, o->common);
     auto* spp = cmd->add_option("--spp", o->spp, "Samples per pixel (default 64 when --time is not given)")
                     ->check(CLI::Range(1, 1 << 30));
@@ -330,6 +332,7 @@ void add_render_command(CLI::App& app) {
         ->required()
         ->take_all();
     add_exposure_option(*cmd, o->exposure, "Exposure in stops applied before writing");
+    add_display_options(*cmd, o->display, "clamp");
     cmd->add_flag("-q,--quiet", o->quiet, "No progress bar");
     auto* samples = cmd->add_option("--samples", o->samples,
                                     "Render only the sample indices START..START+COUNT-1 (START:COUNT; with --time, "

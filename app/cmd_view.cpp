@@ -18,7 +18,9 @@ struct ViewOptions {
     CommonOptions common;
     std::string snapshot_dir = ".";
     std::string log_file;
-    std::string compare;  // an EXR shown as B of the compare views
+    std::string compare;     // an EXR shown as B of the compare views
+    float exposure = 0.f;    // the display's, at the start
+    DisplayOptions display;  // the view transform at the start, and the OpenColorIO config offered
 };
 
 void run(const ViewOptions& o) {
@@ -39,6 +41,10 @@ void run(const ViewOptions& o) {
     v.threads = o.common.threads;
     v.snapshot_dir = o.snapshot_dir;
     v.log_file = o.log_file;
+    v.display = resolve_display(o.display, ViewTransform::Aces);
+    v.display.exposure = o.exposure;
+    v.ocio_config = offered_ocio_config(v.display);
+    v.ocio_input = o.display.ocio_input;
     if (!o.compare.empty()) {
         // Read before the window opens: an unreadable or wrong-size file is one line and a non-zero exit.
         auto b = std::make_shared<Image>(read_exr(o.compare));
@@ -66,6 +72,8 @@ void add_view_command(CLI::App& app, CLI::App*& view_cmd) {
     view_cmd->add_option("--compare", o->compare,
                          "Show this EXR as B of the compare views (split, flip, difference) with the live relMSE "
                          "against it; it must have the image's size");
+    add_exposure_option(*view_cmd, o->exposure, "Display exposure in stops at the start (display only)");
+    add_display_options(*view_cmd, o->display, "aces");
     view_cmd->add_option("--log-file", o->log_file,
                          "Log restarts (with reasons), snapshots and timings to this file, one line each");
     view_cmd->callback([o] {

@@ -8,6 +8,8 @@
 
 #include "core/frame/adaptive.h"
 #include "core/image/image_io.h"
+#include "core/image/ocio_view.h"
+#include "core/image/view_transform.h"
 #include "core/render/integrator.h"
 #include "core/scene/camera.h"
 
@@ -44,6 +46,21 @@ void check_merge_memory(const std::string& part, int width, int height);
 // render and merge (the budget also by view and bench, through add_common_options) with each one's help.
 CLI::Option* add_exposure_option(CLI::App& cmd, float& stops, const std::string& help);
 CLI::Option* add_image_budget_option(CLI::App& cmd, double& megapixels, const std::string& help);
+// --view-transform and the OpenColorIO flags, shared by view, render and merge (core/image/view_transform.h).
+struct DisplayOptions {
+    std::string view_transform;  // empty: the command's default (or ocio when an --ocio-* flag is given)
+    std::string ocio_config;     // empty: $OCIO
+    std::string ocio_display, ocio_view;
+    std::string ocio_input = "scene_linear";
+};
+void add_display_options(CLI::App& cmd, DisplayOptions& o, const char* default_transform);
+// The transform the flags ask for (its exposure 0: each command applies its own). An OpenColorIO view is built
+// here; throws pv::Error naming the config, or for --ocio-* flags with another transform.
+DisplayTransform resolve_display(const DisplayOptions& o, ViewTransform fallback);
+// The OpenColorIO config the viewer offers in its panel: --ocio-config, else $OCIO (a broken $OCIO is a note on
+// stderr, not an error, unless OpenColorIO was asked for); null when neither is set.
+std::shared_ptr<const OcioConfig> offered_ocio_config(const DisplayTransform& chosen);
+
 // Adds the shared options to a (sub)command.
 void add_common_options(CLI::App& cmd, CommonOptions& o);
 // After parsing: caps --threads at the cores this process may use (saying so) and applies the image budget.

@@ -158,6 +158,61 @@ CLI::Option* add_exposure_option(CLI::App& cmd, float& stops, const std::string&
     return cmd.add_option("--exposure", stops, help)->check(finite_range(-64, 64))->capture_default_str();
 }
 
+void add_display_options(CLI::App& cmd, DisplayOptions& o, const char* default_transform) {
+    cmd.add_option("--view-transform", o.view_transform,
+                   "How linear radiance becomes display values in PNG files and on screen (EXR stays linear): "
+                   "clamp (sRGB), reinhard, aces (Narkowicz's fit), agx (Blender 4's), pbr-neutral (Khronos), or "
+                   "ocio (an OpenColorIO display/view)")
+        ->check(CLI::IsMember(std::vector<std::string>{"clamp", "reinhard", "aces", "agx", "pbr-neutral", "ocio"}))
+        ->default_str(default_transform);
+    cmd.add_option("--ocio-config", o.ocio_config,
+                   "OpenColorIO config file for --view-transform ocio (default: $OCIO); implies ocio");
+    cmd.add_option("--ocio-display", o.ocio_display,
+                   "OpenColorIO display (default: the config's); implies --view-transform ocio");
+    cmd.add_option("--ocio-view", o.ocio_view,
+                   "OpenColorIO view of that display (default: the display's); implies --view-transform ocio");
+    cmd.add_option("--ocio-input", o.ocio_input,
+                   "The config's colour space (or role) for pathview's linear Rec.709 RGB; implies --view-transform "
+                   "ocio")
+        ->capture_default_str();
+}
+
+namespace {
+bool has_ocio_flags(const DisplayOptions& o) {
+    return !o.ocio_config.empty() || !o.ocio_display.empty() || !o.ocio_view.empty() || o.ocio_input != "scene_linear";
+}
+}  // namespace
+
+DisplayTransform resolve_display(const DisplayOptions& o, ViewTransform fallback) {
+    DisplayTransform t;
+    t.transform = fallback;
+    if (!o.view_transform.empty()) {
+        t.transform = *value_of(kViewTransformNames, o.view_transform);  // CLI11 checked the word
+        if (t.transform != ViewTransform::Ocio && has_ocio_flags(o))
+            throw Error("--view-transform " + o.view_transform +
+                        ": --ocio-config, --ocio-display, --ocio-view and --ocio-input apply to --view-transform "
+                        "ocio only");
+    } else if (has_ocio_flags(o)) {
+        t.transform = ViewTransform::Ocio;
+    }
+    if (t.transform == ViewTransform::Ocio)
+        t.ocio = std::make_shared<const OcioView>(OcioConfig::load(o.ocio_config), o.ocio_display, o.ocio_view,
+                                                  o.ocio_input);
+    return t;
+}
+
+std::shared_ptr<const OcioConfig> offered_ocio_config(const DisplayTransform& chosen) {
+    if (chosen.ocio) return std::shared_ptr<const OcioConfig>(chosen.ocio, &chosen.ocio->config());
+    const char* env = std::getenv("OCIO");
+    if (!env || !*env) return nullptr;
+    try {
+        return OcioConfig::load("");
+    } catch (const Error& e) {
+        std::fprintf(stderr, "pathview: note: $OCIO: %s; OpenColorIO is not offered\n", e.what());
+        return nullptr;
+    }
+}
+
 CLI::Option* add_image_budget_option(CLI::App& cmd, double& megapixels, const std::string& help) {
     return cmd.add_option("--max-image-megapixels", megapixels, help)
         ->check(finite_range(0.001, 1e6))

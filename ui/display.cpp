@@ -98,12 +98,15 @@ DisplayPass::DisplayPass() {
     glUniform1i(glGetUniformLocation(m_program, "u_samples"), 2);
     glUniform1i(glGetUniformLocation(m_program, "u_b"), 3);
     glUniform1i(glGetUniformLocation(m_program, "u_diff"), 4);
+    glUniform1i(glGetUniformLocation(m_program, "u_lut"), 5);
     m_loc_exposure = glGetUniformLocation(m_program, "u_exposure");
     m_loc_tone_map = glGetUniformLocation(m_program, "u_tone_map");
     m_loc_view = glGetUniformLocation(m_program, "u_view");
     m_loc_samples_max = glGetUniformLocation(m_program, "u_samples_max");
     m_loc_compare = glGetUniformLocation(m_program, "u_compare");
     m_loc_divider = glGetUniformLocation(m_program, "u_divider");
+    m_loc_lut_size = glGetUniformLocation(m_program, "u_lut_size");
+    m_loc_lut_log2 = glGetUniformLocation(m_program, "u_lut_log2");
     glUseProgram(0);
     glGenVertexArrays(1, &m_vao);
     m_tex_color = make_texture();
@@ -113,11 +116,21 @@ DisplayPass::DisplayPass() {
     m_tex_b = make_texture();
     m_tex_diff = make_texture();
     glGenFramebuffers(1, &m_fbo);
+    glGenTextures(1, &m_tex_lut);
+    glBindTexture(GL_TEXTURE_3D, m_tex_lut);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        glTexParameteri(GL_TEXTURE_3D, wrap, GL_CLAMP_TO_EDGE);
+    const float black[3] = {0.f, 0.f, 0.f};  // until a view is baked
+    glTexImage3D(GL_TEXTURE_3D, 0, GL_RGB32F, 1, 1, 1, 0, GL_RGB, GL_FLOAT, black);
+    glBindTexture(GL_TEXTURE_3D, 0);
 }
 
 DisplayPass::~DisplayPass() {
-    const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples, m_tex_display, m_tex_b, m_tex_diff};
-    glDeleteTextures(6, textures);
+    const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples, m_tex_display,
+                                 m_tex_b,     m_tex_diff,  m_tex_lut};
+    glDeleteTextures(7, textures);
     glDeleteFramebuffers(1, &m_fbo);
     glDeleteVertexArrays(1, &m_vao);
     glDeleteProgram(m_program);
@@ -161,44 +174,81 @@ void DisplayPass::upload_difference(const std::vector<float>& diff, int w, int h
     m_shaded = false;
 }
 
+void DisplayPass::upload_lut(const DisplayParams& p) {
+    if (p.transform != ViewTransform::Ocio || !p.ocio || p.ocio == m_lut_view) return;
+    const std::vector<float> lut = bake_display_lut(*p.ocio, kDisplayLutSize);
+    glBindTexture(GL_TEXTURE_3D, m_tex_lut);
+    glTexImage3D(GL_TEXTURE_3D, 0, GL_RGB32F, kDisplayLutSize, kDisplayLutSize, kDisplayLutSize, 0, GL_RGB, GL_FLOAT,
+                 lut.data());
+    glBindTexture(GL_TEXTURE_3D, 0);
+    m_lut_view = p.ocio;
+}
+
+void DisplayPass::shade(const DisplayParams& p) {
+    if (m_shaded && p == m_shaded_params) return;
+    upload_lut(p);
+    glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
+    glViewport(0, 0, m_width, m_height);
+    glUseProgram(m_program);
+    glUniform1f(m_loc_exposure, p.exposure);
+    // OpenColorIO without a view (none chosen yet) shows clamp.
+    const ViewTransform t = p.transform == ViewTransform::Ocio && !p.ocio ? ViewTransform::Clamp : p.transform;
+    glUniform1i(m_loc_tone_map, static_cast<int>(t));
+    glUniform1f(m_loc_lut_size, float(kDisplayLutSize));
+    glUniform2f(m_loc_lut_log2, kLutLog2Min, kLutLog2Max);
+    glUniform1i(m_loc_view, static_cast<int>(p.view));
+    glUniform1f(m_loc_samples_max, m_samples_max);
+    // A compare view without its texture shows A.
+    const bool b_ready = m_b_w > 0, diff_ready = m_diff_w > 0;
+    const CompareView cv =
+        (p.compare == CompareView::Difference && !diff_ready) || (p.compare != CompareView::Difference && !b_ready)
+            ? CompareView::Off
+            : p.compare;
+    glUniform1i(m_loc_compare, static_cast<int>(cv));
+    glUniform1f(m_loc_divider, p.divider);
+    const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples, m_tex_b, m_tex_diff};
+    for (int i = 0; i < 5; ++i) {
+        glActiveTexture(GL_TEXTURE0 + i);
+        glBindTexture(GL_TEXTURE_2D, textures[i]);
+    }
+    glActiveTexture(GL_TEXTURE5);
+    glBindTexture(GL_TEXTURE_3D, m_tex_lut);
+    glActiveTexture(GL_TEXTURE0);
+    glBindVertexArray(m_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    m_shaded = true;
+    m_shaded_params = p;
+}
+
 void DisplayPass::draw(int x, int y, int w, int h, const DisplayParams& p) {
     if (!has_image() || w <= 0 || h <= 0) return;
-    if (!m_shaded || p != m_shaded_params) {
-        // Shade the snapshot at its own resolution into m_tex_display.
-        glBindFramebuffer(GL_FRAMEBUFFER, m_fbo);
-        glViewport(0, 0, m_width, m_height);
-        glUseProgram(m_program);
-        glUniform1f(m_loc_exposure, p.exposure);
-        glUniform1i(m_loc_tone_map, static_cast<int>(p.tone_map));
-        glUniform1i(m_loc_view, static_cast<int>(p.view));
-        glUniform1f(m_loc_samples_max, m_samples_max);
-        // A compare view without its texture shows A.
-        const bool b_ready = m_b_w > 0, diff_ready = m_diff_w > 0;
-        const CompareView cv =
-            (p.compare == CompareView::Difference && !diff_ready) || (p.compare != CompareView::Difference && !b_ready)
-                ? CompareView::Off
-                : p.compare;
-        glUniform1i(m_loc_compare, static_cast<int>(cv));
-        glUniform1f(m_loc_divider, p.divider);
-        const unsigned textures[] = {m_tex_color, m_tex_error, m_tex_samples, m_tex_b, m_tex_diff};
-        for (int i = 0; i < 5; ++i) {
-            glActiveTexture(GL_TEXTURE0 + i);
-            glBindTexture(GL_TEXTURE_2D, textures[i]);
-        }
-        glActiveTexture(GL_TEXTURE0);
-        glBindVertexArray(m_vao);
-        glDrawArrays(GL_TRIANGLES, 0, 3);
-        glBindVertexArray(0);
-        glUseProgram(0);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        m_shaded = true;
-        m_shaded_params = p;
-    }
+    shade(p);
     // Scale it into the image region (rows are bottom-up in both).
     glBindFramebuffer(GL_READ_FRAMEBUFFER, m_fbo);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
     glBlitFramebuffer(0, 0, m_width, m_height, x, y, x + w, y + h, GL_COLOR_BUFFER_BIT, GL_LINEAR);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+std::vector<uint8_t> DisplayPass::read_shaded(const DisplayParams& p) {
+    if (!has_image()) return {};
+    shade(p);
+    std::vector<uint8_t> rgba(size_t(m_width) * size_t(m_height) * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m_fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, m_width, m_height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    // glReadPixels starts at the bottom row, which holds the image's bottom (the shader flips t); a PNG starts at the
+    // top.
+    std::vector<uint8_t> rgb(size_t(m_width) * size_t(m_height) * 3);
+    for (int y = 0; y < m_height; ++y)
+        for (int x = 0; x < m_width; ++x)
+            for (int c = 0; c < 3; ++c)
+                rgb[(size_t(y) * m_width + x) * 3 + c] = rgba[(size_t(m_height - 1 - y) * m_width + x) * 4 + c];
+    return rgb;
 }
 
 }  // namespace pv::ui

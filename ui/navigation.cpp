@@ -98,7 +98,8 @@ void Navigation::handle_keys(InputQueue& input, const NavigationFrame& frame, Ca
                              ViewState& state, PanelActions& act, NavigationResult& result) {
     for (const auto& [key, mods] : input.keys) {
         const bool ctrl = (mods & GLFW_MOD_CONTROL) != 0;
-        if (ctrl && key == GLFW_KEY_S) act.save = true;
+        const bool shift = (mods & GLFW_MOD_SHIFT) != 0;
+        if (ctrl && key == GLFW_KEY_S) (shift ? act.save_png : act.save) = true;
         if (ctrl && key == GLFW_KEY_Q) result.quit = true;
         if (ctrl || frame.imgui_wants_keyboard) continue;
         if (key == GLFW_KEY_F) act.frame_all = true;
@@ -111,6 +112,10 @@ void Navigation::handle_keys(InputQueue& input, const NavigationFrame& frame, Ca
         if (key == GLFW_KEY_N) {
             state.display.denoise = !state.display.denoise;
             m_log.line("action show %s", state.display.denoise ? "denoised" : "raw");
+        }
+        if (key == GLFW_KEY_T) {
+            cycle_view_transform(state.display, state.ocio);
+            m_log.line("action view-transform %s", name_of(kViewTransformNames, state.display.transform));
         }
         if (key == GLFW_KEY_B) act.compare.hold = true;
         if (key == GLFW_KEY_C) act.compare.cycle = true;

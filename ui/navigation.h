@@ -15,7 +15,8 @@
 //   left drag: orbit; middle drag or shift+left drag: pan; ctrl+left drag: a render region (X clears it); wheel: dolly;
 //   a press that moves less than kClickSlopPx is a click: select the material under it, or (after "pick focus") set the
 //   focus plane there; a double click re-targets the orbit; W A S D Q E fly; F frame all; R reset; P pause; G focus
-//   under the cursor; Ctrl+S snapshot; Ctrl+Q quit. Comparison (compare.h): B holds the image as B, C cycles the
+//   under the cursor; Ctrl+S snapshot (EXR), Ctrl+Shift+S the image on screen as PNG; T the next view transform;
+//   Ctrl+Q quit. Comparison (compare.h): B holds the image as B, C cycles the
 //   compare views, V flips between A and B, right drag moves the split view's divider. N: the raw accumulation or
 //   the denoised image (state.display.denoise).
 

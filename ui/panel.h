@@ -14,6 +14,7 @@
 #include "core/frame/renderer.h"
 #include "core/scene/environment.h"
 #include "display.h"
+#include "display_transform.h"
 #include "view_log.h"
 
 namespace pv::ui {
@@ -23,6 +24,7 @@ struct ViewState {
     RenderSettings settings;
     std::vector<Material> materials;
     DisplayParams display;
+    OcioChoice ocio;             // the OpenColorIO config offered in the Display section (ui/display_transform.h)
     int target_spp = 0;          // 0: none
     AdaptiveSettings adaptive;   // "stop at noise threshold" (0: off); a change restarts the accumulation
     float target_seconds = 0.f;  // 0: none
@@ -71,6 +73,7 @@ struct PanelActions {
     bool control_changed = false;  // pause or targets
     bool restart = false;
     bool save = false;
+    bool save_png = false;        // the image on screen through the view transform (Ctrl+Shift+S)
     bool save_resumable = false;  // a partial render that `pathview render --resume` continues
     bool frame_all = false;
     bool reset_camera = false;
@@ -93,6 +96,7 @@ private:
     void convergence(const PanelFacts& facts);
     void estimator(ViewState& state, const PanelFacts& facts, PanelActions& act);
     void display(ViewState& state, const PanelFacts& facts);
+    void view_transform(ViewState& state);  // ui/panel_view_transform.cpp
     void camera(ViewState& state, CameraController& camera, PanelActions& act);
     void materials(ViewState& state, PanelActions& act);
     void snapshots(ViewState& state, PanelActions& act);

@@ -191,8 +191,7 @@ void Panel::display(ViewState& state, const PanelFacts& facts) {
                                s.denoised_spp, s.spp, s.denoise_ms);
     }
     ImGui::SliderFloat("exposure", &d.exposure, -10.f, 10.f, "%+.1f stops");
-    int tone = static_cast<int>(d.tone_map);
-    if (ImGui::Combo("tone map", &tone, "clamp\0Reinhard (luminance)\0ACES filmic\0")) d.tone_map = ToneMap(tone);
+    view_transform(state);
     int view = static_cast<int>(d.view);
     if (ImGui::Combo("view", &view, "colour\0relative error (1e-3..1, log)\0sample count (0..spp)\0"))
         d.view = View(view);

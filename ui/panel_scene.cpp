@@ -71,6 +71,12 @@ void Panel::snapshots(ViewState& state, PanelActions& act) {
     if (ImGui::Button("Save EXR (Ctrl+S)")) act.save = true;
     log_widget("save");
     ImGui::SameLine();
+    if (ImGui::Button("Save PNG (Ctrl+Shift+S)")) act.save_png = true;
+    log_widget("save_png");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip(
+            "The image on screen through the exposure and view transform: the bytes `pathview render "
+            "-o x.png` writes for the same film and flags");
     ImGui::TextDisabled("to %s", state.snapshot_dir.c_str());
     if (ImGui::Button("Save resumable EXR")) act.save_resumable = true;
     log_widget("save_resumable");

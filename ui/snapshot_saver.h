@@ -1,6 +1,7 @@
-// ui/snapshot_saver.h: saves accumulations as FLOAT EXR off the UI thread. Files are numbered pathview-0001.exr,
-// pathview-0002.exr... in the snapshot folder (the first number not yet taken); write_exr() writes a temporary
-// file and renames it, so a crash never leaves half a snapshot. The destructor waits for writes in flight.
+// ui/snapshot_saver.h: saves accumulations as FLOAT EXR, or the image on screen as PNG, off the UI thread. Files
+// are numbered pathview-0001.exr, pathview-0002.png... in the snapshot folder (the first number not yet taken by
+// either); every write goes to a temporary file that is then renamed, so a crash never leaves half a snapshot. The
+// destructor waits for writes in flight.
 #pragma once
 
 #include <functional>
@@ -10,6 +11,7 @@
 
 #include "core/frame/partial.h"
 #include "core/frame/progressive.h"
+#include "core/image/view_transform.h"
 
 namespace pv::ui {
 
@@ -18,6 +20,7 @@ struct SaveResult {
     std::string path;
     std::string error;  // when !ok
     uint32_t spp = 0;
+    std::string note;  // a PNG's agreement with the screen: "screen_diff_bytes=N screen_max_diff=M"
 };
 
 class SnapshotSaver {
@@ -28,6 +31,9 @@ public:
 
     // Starts writing the snapshot's mean image with its metadata; returns the path it will have.
     std::string save(const Snapshot& snapshot);
+    // Starts writing `image` through `transform` as a PNG (core's display_bytes: the bytes `pathview render -o x.png`
+    // writes); `screen`, when not empty, is the display pass's bytes of the same image, counted against them.
+    std::string save_png(Image image, uint32_t spp, DisplayTransform transform, std::vector<uint8_t> screen);
     // Starts writing a partial render (core/frame/partial.h): resumable with `pathview render --resume`.
     std::string save_partial(PartialRender part);
     // Results of the writes that finished since the last call, in the order they were started.
@@ -35,9 +41,9 @@ public:
     size_t in_flight() const { return m_jobs.size(); }
 
 private:
-    std::string next_path();
-    // Writes with write(path) on a new thread; returns the path.
-    std::string start(uint32_t spp, std::function<void(const std::string&)> write);
+    std::string next_path(const char* ext);
+    // Writes with write(path) on a new thread (its return value is the result's note); returns the path.
+    std::string start(uint32_t spp, const char* ext, std::function<std::string(const std::string&)> write);
     std::string m_folder;
     std::function<void()> m_on_done;
     unsigned m_next = 1;

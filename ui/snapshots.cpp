@@ -15,6 +15,22 @@ void Snapshots::save(const Snapshot& shown, ViewState& state) {
     m_log.line("snapshot-start path=%s spp=%u", path.c_str(), shown.spp);
 }
 
+void Snapshots::save_png(const Snapshot& shown, bool denoised, const DisplayParams& display,
+                         std::vector<uint8_t> screen, ViewState& state) {
+    if (shown.spp == 0) {
+        state.snapshot_status = "nothing rendered yet";
+        state.snapshot_ok = false;
+        return;
+    }
+    Image image(shown.width, shown.height);
+    image.rgb = denoised && shown.denoised.size() == shown.rgb.size() ? shown.denoised : shown.rgb;
+    const DisplayTransform t = display_transform(display);
+    const std::string path = m_saver.save_png(std::move(image), shown.spp, t, std::move(screen));
+    state.snapshot_status = "saving " + path + " (" + t.describe() + ")";
+    state.snapshot_ok = true;
+    m_log.line("snapshot-start path=%s spp=%u", path.c_str(), shown.spp);
+}
+
 void Snapshots::resumable_requested(ViewState& state) {
     state.snapshot_status = "preparing a resumable snapshot";
     state.snapshot_ok = true;
@@ -35,7 +51,7 @@ bool Snapshots::poll(ViewState& state) {
         state.snapshot_ok = r.ok;
         if (r.ok) {
             state.snapshot_status = "saved " + r.path + " (" + std::to_string(r.spp) + " spp)";
-            m_log.line("snapshot path=%s spp=%u", r.path.c_str(), r.spp);
+            m_log.line("snapshot path=%s spp=%u%s%s", r.path.c_str(), r.spp, r.note.empty() ? "" : " ", r.note.c_str());
         } else {
             state.snapshot_status = r.error;
             m_log.line("snapshot-error path=%s error=%s", r.path.c_str(), r.error.c_str());

@@ -21,6 +21,10 @@ public:
 
     // Starts saving `shown`; "nothing rendered yet" (not ok) before its first sample.
     void save(const Snapshot& shown, ViewState& state);
+    // Starts saving `shown` (its denoised image when `denoised` and it has one) through the display's transform as
+    // PNG; `screen`: the display pass's bytes of the same image (empty: not compared).
+    void save_png(const Snapshot& shown, bool denoised, const DisplayParams& display, std::vector<uint8_t> screen,
+                  ViewState& state);
     // The user asked for a resumable snapshot (the viewer calls ProgressiveRenderer::request_partial()).
     void resumable_requested(ViewState& state);
     // Starts saving the partial render the renderer made, if any; true when one was started.

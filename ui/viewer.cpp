@@ -60,6 +60,8 @@ private:
     // Files dropped on the window (drop.h): a scene loads as the Scene section's "Load"; an image becomes the map.
     void handle_drops();
     void upload_difference();
+    // The image on screen as PNG through the view transform; the display pass's bytes go along to be compared.
+    void save_png();
     void log_error_vs_b();
     bool take_latest();
     void show_first_pass(double frame_start);
@@ -103,6 +105,11 @@ Viewer::Viewer(const ViewerOptions& o)
     m_state.settings = o.settings;
     m_state.adaptive = o.adaptive;
     m_state.snapshot_dir = o.snapshot_dir;
+    m_state.display.exposure = o.display.exposure;
+    m_state.display.transform = o.display.transform;
+    m_state.display.ocio = o.display.ocio;
+    m_state.ocio.config = o.ocio_config;
+    m_state.ocio.input = o.ocio_input;
     m_state.scene_path = first.scene->source;
     m_denoising = m_state.display.denoise;  // denoised by default: the first passes are filtered too
     use_scene(std::move(first));
@@ -196,6 +203,14 @@ void Viewer::handle_drops() {
     }
     m_log.line("drop %s", m_state.drop_status.c_str());
     if (!m_state.drop_ok) std::fprintf(stderr, "%s\n", m_state.drop_status.c_str());
+}
+
+void Viewer::save_png() {
+    // The screen holds exactly the shown image in the colour view without a comparison or a region's backdrop.
+    const DisplayParams& d = m_state.display;
+    const bool comparable = d.view == View::Colour && d.compare == CompareView::Off && !m_state.region;
+    m_snapshots.save_png(m_image.shown(), d.denoise, d, comparable ? m_display->read_shaded(d) : std::vector<uint8_t>{},
+                         m_state);
 }
 
 // Takes the renderer's newest pass, if there is one, onto the screen's textures and the comparison; true if it did.
@@ -326,6 +341,7 @@ int Viewer::run() {
         const NavigationResult nav = m_navigation.handle(m_input, navigation_frame(dt), *m_camera, m_state, act);
         if (nav.quit) glfwSetWindowShouldClose(window, GLFW_TRUE);
         if (act.save) m_snapshots.save(m_image.shown(), m_state);
+        if (act.save_png) save_png();
         if (act.save_resumable) {
             m_renderer->request_partial();
             m_snapshots.resumable_requested(m_state);

@@ -8,6 +8,8 @@
 #include <string>
 
 #include "core/frame/progressive.h"
+#include "core/image/ocio_view.h"
+#include "core/image/view_transform.h"
 
 namespace pv::ui {
 
@@ -20,6 +22,10 @@ struct ViewerOptions {
     int threads = 0;                // 0: all cores
     std::string snapshot_dir = ".";
     std::string log_file;  // empty: no log
+    // The display at the start: exposure and view transform (--exposure, --view-transform, --ocio-*).
+    DisplayTransform display{0.f, ViewTransform::Aces, nullptr};
+    std::shared_ptr<const OcioConfig> ocio_config;  // offered in the Display section (null: none)
+    std::string ocio_input = "scene_linear";
     // --compare FILE.exr: B of the compare views from the start (read and size-checked by the caller).
     std::shared_ptr<const Image> compare_image;
     std::string compare_path;

@@ -379,26 +379,27 @@ std::vector<vec4> decode_exr_rgba(const std::string& bytes, const std::string& n
     return texels;
 }
 
-void write_png(const std::string& path, const Image& image, float exposure) {
-    const float scale = std::exp2(exposure);
-    std::vector<uint8_t> px(size_t(image.width) * size_t(image.height) * 3);
-    for (size_t i = 0; i < px.size(); ++i)
-        px[i] = static_cast<uint8_t>(glm::clamp(linear_to_srgb(image.rgb[i] * scale) * 255.f + 0.5f, 0.f, 255.f));
+void write_png(const std::string& path, const Image& image, const DisplayTransform& transform) {
+    write_png_bytes(path, image.width, image.height, display_bytes(image, transform));
+}
+
+void write_png_bytes(const std::string& path, int width, int height, const std::vector<uint8_t>& px) {
     // stb's file writer ignores write errors: encode to memory, then write with checked writes.
     std::vector<uint8_t> png;
     auto append = [](void* ctx, void* data, int size) {
         auto* out = static_cast<std::vector<uint8_t>*>(ctx);
         out->insert(out->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
     };
-    if (!stbi_write_png_to_func(append, &png, image.width, image.height, 3, px.data(), image.width * 3))
+    if (!stbi_write_png_to_func(append, &png, width, height, 3, px.data(), width * 3))
         throw Error(path + ": cannot encode PNG (out of memory?)");
     write_file_atomically(path, [&](int fd) { write_all(fd, png.data(), png.size(), path); });
 }
 
-void write_image(const std::string& path, const Image& image, const Metadata& metadata) {
+void write_image(const std::string& path, const Image& image, const Metadata& metadata,
+                 const DisplayTransform& transform) {
     const std::string ext = std::filesystem::path(path).extension().string();
     if (ext == ".exr" || ext == ".EXR") return write_exr(path, image, metadata);
-    if (ext == ".png" || ext == ".PNG") return write_png(path, image);
+    if (ext == ".png" || ext == ".PNG") return write_png(path, image, transform);
     throw Error(path + ": unknown image format '" + ext + "'; expected .exr or .png");
 }
 

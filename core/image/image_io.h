@@ -1,6 +1,7 @@
-// core/image/image_io.h: writing and reading images. EXR is linear FLOAT RGB with string metadata; PNG is tone-mapped
-// (exposure, clamp, sRGB) 8-bit. Writes go through write_file_atomically (core/base/file_io.h): every write checked,
-// then rename(), so a crash or a full disk never leaves half a file. Failures throw pv::Error naming the file.
+// core/image/image_io.h: writing and reading images. EXR is linear FLOAT RGB with string metadata; PNG is the image
+// through a view transform (core/image/view_transform.h: exposure, clamp by default, display encoding) in 8 bits.
+// Writes go through write_file_atomically (core/base/file_io.h): every write checked, then rename(), so a crash or a
+// full disk never leaves half a file. Failures throw pv::Error naming the file.
 #pragma once
 
 #include <cstdint>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "core/image/film.h"
+#include "core/image/view_transform.h"
 
 namespace pv {
 
@@ -42,10 +44,13 @@ Image read_exr(const std::string& path, Metadata* metadata = nullptr);
 std::vector<vec4> read_exr_rgba(const std::string& path, int& width, int& height);
 // The same from the bytes of an EXR file in memory; `name` is used in messages.
 std::vector<vec4> decode_exr_rgba(const std::string& bytes, const std::string& name, int& width, int& height);
-// exposure in stops: the image is multiplied by 2^exposure before the sRGB transfer.
-void write_png(const std::string& path, const Image& image, float exposure = 0.f);
-// Writes by extension: .exr or .png; anything else is an error.
-void write_image(const std::string& path, const Image& image, const Metadata& metadata = {});
+// The image through `transform` (display_bytes) as an 8-bit RGB PNG.
+void write_png(const std::string& path, const Image& image, const DisplayTransform& transform = {});
+// 8-bit RGB bytes (row 0 at the top) as a PNG.
+void write_png_bytes(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb8);
+// Writes by extension: .exr (linear: `transform` is not applied) or .png; anything else is an error.
+void write_image(const std::string& path, const Image& image, const Metadata& metadata = {},
+                 const DisplayTransform& transform = {});
 
 // sRGB transfer function (IEC 61966-2-1) of a linear value in [0, 1].
 float linear_to_srgb(float x);
