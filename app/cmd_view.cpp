@@ -41,9 +41,9 @@ void run(const ViewOptions& o) {
     v.threads = o.common.threads;
     v.snapshot_dir = o.snapshot_dir;
     v.log_file = o.log_file;
-    v.display = resolve_display(o.display, ViewTransform::Aces);
+    v.display = resolve_display(o.display, ViewTransform::Aces, true);
     v.display.exposure = o.exposure;
-    v.ocio_config = offered_ocio_config(v.display);
+    v.ocio_config = offered_ocio_config(o.display, v.display);
     v.ocio_input = o.display.ocio_input;
     if (!o.compare.empty()) {
         // Read before the window opens: an unreadable or wrong-size file is one line and a non-zero exit.

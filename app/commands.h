@@ -55,11 +55,12 @@ struct DisplayOptions {
 };
 void add_display_options(CLI::App& cmd, DisplayOptions& o, const char* default_transform);
 // The transform the flags ask for (its exposure 0: each command applies its own). An OpenColorIO view is built
-// here; throws pv::Error naming the config, or for --ocio-* flags with another transform.
-DisplayTransform resolve_display(const DisplayOptions& o, ViewTransform fallback);
-// The OpenColorIO config the viewer offers in its panel: --ocio-config, else $OCIO (a broken $OCIO is a note on
-// stderr, not an error, unless OpenColorIO was asked for); null when neither is set.
-std::shared_ptr<const OcioConfig> offered_ocio_config(const DisplayTransform& chosen);
+// here; throws pv::Error naming the config, or for --ocio-* flags with another transform (but for --ocio-config
+// and --ocio-input in the viewer, `offers_config`: the config is then offered in its panel).
+DisplayTransform resolve_display(const DisplayOptions& o, ViewTransform fallback, bool offers_config = false);
+// The OpenColorIO config the viewer offers in its panel: the chosen view's, --ocio-config, else $OCIO (a broken
+// $OCIO is a note on stderr, not an error); null when there is none.
+std::shared_ptr<const OcioConfig> offered_ocio_config(const DisplayOptions& o, const DisplayTransform& chosen);
 
 // Adds the shared options to a (sub)command.
 void add_common_options(CLI::App& cmd, CommonOptions& o);

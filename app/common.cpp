@@ -177,22 +177,19 @@ void add_display_options(CLI::App& cmd, DisplayOptions& o, const char* default_t
         ->capture_default_str();
 }
 
-namespace {
-bool has_ocio_flags(const DisplayOptions& o) {
-    return !o.ocio_config.empty() || !o.ocio_display.empty() || !o.ocio_view.empty() || o.ocio_input != "scene_linear";
-}
-}  // namespace
-
-DisplayTransform resolve_display(const DisplayOptions& o, ViewTransform fallback) {
+DisplayTransform resolve_display(const DisplayOptions& o, ViewTransform fallback, bool offers_config) {
+    const bool picks_view = !o.ocio_display.empty() || !o.ocio_view.empty();
+    const bool names_config = !o.ocio_config.empty() || o.ocio_input != "scene_linear";
     DisplayTransform t;
     t.transform = fallback;
     if (!o.view_transform.empty()) {
         t.transform = *value_of(kViewTransformNames, o.view_transform);  // CLI11 checked the word
-        if (t.transform != ViewTransform::Ocio && has_ocio_flags(o))
-            throw Error("--view-transform " + o.view_transform +
-                        ": --ocio-config, --ocio-display, --ocio-view and --ocio-input apply to --view-transform "
-                        "ocio only");
-    } else if (has_ocio_flags(o)) {
+        if (t.transform != ViewTransform::Ocio && (picks_view || (names_config && !offers_config)))
+            throw Error("--view-transform " + o.view_transform + ": " +
+                        (offers_config ? "--ocio-display and --ocio-view apply"
+                                       : "--ocio-config, --ocio-display, --ocio-view and --ocio-input apply") +
+                        " to --view-transform ocio only");
+    } else if (picks_view || names_config) {
         t.transform = ViewTransform::Ocio;
     }
     if (t.transform == ViewTransform::Ocio)
@@ -201,8 +198,9 @@ DisplayTransform resolve_display(const DisplayOptions& o, ViewTransform fallback
     return t;
 }
 
-std::shared_ptr<const OcioConfig> offered_ocio_config(const DisplayTransform& chosen) {
+std::shared_ptr<const OcioConfig> offered_ocio_config(const DisplayOptions& o, const DisplayTransform& chosen) {
     if (chosen.ocio) return std::shared_ptr<const OcioConfig>(chosen.ocio, &chosen.ocio->config());
+    if (!o.ocio_config.empty()) return OcioConfig::load(o.ocio_config);
     const char* env = std::getenv("OCIO");
     if (!env || !*env) return nullptr;
     try {
