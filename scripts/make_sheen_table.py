@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# scripts/make_sheen_table.py: writes core/scene/sheen_table.inc, the directional albedo E(mu, alpha) of the Charlie
+# scripts/make_sheen_table.py: writes core/scene/sheen_table.h, the directional albedo E(mu, alpha) of the Charlie
 # sheen lobe (Estevez and Kulla 2017, "Production Friendly Microfacet Sheen BRDF"; core/scene/sheen.h) with sheen
 # colour 1: E = integral over the hemisphere of D(h) G(wo, wi) / (4 cos_o cos_i) cos_i dwi, on a 16 x 16 grid of
 # nodes mu = cos_o = i/15 (mu 0 stands for 1e-3) and alpha = j/15 (clamped to kSheenMinAlpha), by the midpoint rule in
@@ -60,12 +60,12 @@ def main():
         mu = max(i / (N - 1), 1e-3)
         vals = [albedo(mu, max(j / (N - 1), MIN_ALPHA)) for j in range(N)]
         rows.append("    {" + ", ".join("%.6ff" % v for v in vals) + "},  // mu = %d/15" % i)
-    with open("core/scene/sheen_table.inc", "w") as f:
-        f.write("// core/scene/sheen_table.inc: written by scripts/make_sheen_table.py (do not edit): the Charlie sheen\n")
+    with open("core/scene/sheen_table.h", "w") as f:
+        f.write("// core/scene/sheen_table.h: written by scripts/make_sheen_table.py (do not edit): the Charlie sheen\n")
         f.write("// lobe's directional albedo, kSheenAlbedo[i][j] at mu = i/15 (0: 1e-3), alpha = j/15 (>= kSheenMinAlpha).\n")
-        f.write("// clang-format off\n")
-        f.write("static constexpr float kSheenAlbedo[%d][%d] = {\n" % (N, N))
-        f.write("\n".join(rows) + "\n};\n// clang-format on\n")
+        f.write("#pragma once\n\nnamespace pv::sheen_detail {\n\n// clang-format off\n")
+        f.write("inline constexpr float kSheenAlbedo[%d][%d] = {\n" % (N, N))
+        f.write("\n".join(rows) + "\n};\n// clang-format on\n\n}  // namespace pv::sheen_detail\n")
 
 
 if __name__ == "__main__":

@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/scene/sheen_table.h"
+
 namespace pv {
-namespace {
-#include "core/scene/sheen_table.inc"
-}  // namespace
+using sheen_detail::kSheenAlbedo;
 
 float sheen_d(float cos_h, float alpha) {
     const float inv = 1.f / std::max(alpha, kSheenMinAlpha);
@@ -47,7 +47,8 @@ float sheen_albedo(float mu, float alpha) {
     const float fx = x - float(i), fy = y - float(j);
     const float lo = kSheenAlbedo[i][j] * (1.f - fy) + kSheenAlbedo[i][j + 1] * fy;
     const float hi = kSheenAlbedo[i + 1][j] * (1.f - fy) + kSheenAlbedo[i + 1][j + 1] * fy;
-    return std::clamp(lo * (1.f - fx) + hi * fx, 0.f, 1.f);  // the mu = 0 row at small alpha exceeds 1 (the grid does not resolve the grazing spike)
+    return std::clamp(lo * (1.f - fx) + hi * fx, 0.f,
+                      1.f);  // the mu = 0 row at small alpha exceeds 1 (the grid does not resolve the grazing spike)
 }
 
 }  // namespace pv

@@ -19,7 +19,7 @@ float sheen_lambda(float cos_t, float alpha);
 // The lobe with sheen colour 1, without the cosine (0 unless wo and wi are strictly on the same side).
 float sheen_eval(vec3 wo, vec3 wi, float alpha);
 // Directional albedo of sheen_eval (sheen colour 1) at |cos_o| = mu: bilinear in the table written by
-// scripts/make_sheen_table.py (core/scene/sheen_table.inc).
+// scripts/make_sheen_table.py (core/scene/sheen_table.h).
 float sheen_albedo(float mu, float alpha);
 
 }  // namespace pv

@@ -1,7 +1,11 @@
-// core/scene/sheen_table.inc: written by scripts/make_sheen_table.py (do not edit): the Charlie sheen
+// core/scene/sheen_table.h: written by scripts/make_sheen_table.py (do not edit): the Charlie sheen
 // lobe's directional albedo, kSheenAlbedo[i][j] at mu = i/15 (0: 1e-3), alpha = j/15 (>= kSheenMinAlpha).
+#pragma once
+
+namespace pv::sheen_detail {
+
 // clang-format off
-static constexpr float kSheenAlbedo[16][16] = {
+inline constexpr float kSheenAlbedo[16][16] = {
     {2.099675f, 0.955505f, 0.793759f, 0.750922f, 0.744521f, 0.753904f, 0.770852f, 0.791113f, 0.812049f, 0.831802f, 0.848961f, 0.862412f, 0.871278f, 0.874896f, 0.872805f, 0.864750f},  // mu = 0/15
     {0.818148f, 0.665288f, 0.625610f, 0.626490f, 0.641788f, 0.663116f, 0.686627f, 0.710133f, 0.732209f, 0.751843f, 0.768277f, 0.780938f, 0.789390f, 0.793319f, 0.792511f, 0.786851f},  // mu = 1/15
     {0.335198f, 0.455529f, 0.471091f, 0.491741f, 0.515777f, 0.540956f, 0.565798f, 0.589282f, 0.610659f, 0.629364f, 0.644962f, 0.657119f, 0.665586f, 0.670183f, 0.670791f, 0.667348f},  // mu = 2/15
@@ -20,3 +24,5 @@ static constexpr float kSheenAlbedo[16][16] = {
     {0.000000f, 0.000192f, 0.004767f, 0.015952f, 0.030938f, 0.047387f, 0.063938f, 0.079851f, 0.094737f, 0.108410f, 0.120794f, 0.131878f, 0.141680f, 0.150237f, 0.157588f, 0.163772f},  // mu = 15/15
 };
 // clang-format on
+
+}  // namespace pv::sheen_detail
