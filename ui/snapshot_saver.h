@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "core/frame/partial.h"
 #include "core/frame/progressive.h"
 #include "core/image/view_transform.h"
+#include "core/partial/partial.h"
 
 namespace pv::ui {
 
@@ -34,7 +34,7 @@ public:
     // Starts writing `image` through `transform` as a PNG (core's display_bytes: the bytes `pathview render -o x.png`
     // writes); `screen`, when not empty, is the display pass's bytes of the same image, counted against them.
     std::string save_png(Image image, uint32_t spp, DisplayTransform transform, std::vector<uint8_t> screen);
-    // Starts writing a partial render (core/frame/partial.h): resumable with `pathview render --resume`.
+    // Starts writing a partial render (core/partial/partial.h): resumable with `pathview render --resume`.
     std::string save_partial(PartialRender part);
     // Results of the writes that finished since the last call, in the order they were started.
     std::vector<SaveResult> finished();

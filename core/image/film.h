@@ -1,7 +1,7 @@
 // core/image/film.h: per-pixel accumulation of radiance samples in double precision (a float running sum stalls at
-// 2^24 ulps: TEST-CATALOG 4.6). Each pixel keeps the sum, the sum of squares (per channel) and the sum of its
-// even-indexed samples, so a reference-free error estimate can compare the even and odd half-buffers (which
-// must be independent estimators: both samplers guarantee it, core/sampling/sampler.h).
+// 2^24 ulps: float accumulation loses samples past that). Each pixel keeps the sum, the sum of squares (per channel)
+// and the sum of its even-indexed samples, so a reference-free error estimate can compare the even and odd half-buffers
+// (which must be independent estimators: both samplers guarantee it, core/sampling/sampler.h).
 #pragma once
 
 #include <algorithm>
@@ -104,7 +104,7 @@ public:
     // Resizes the vectors; returns estimated_rel_mse().
     double views_into(std::vector<float>& rgb, std::vector<float>& rel_error, std::vector<float>& samples) const;
 
-    // The per-pixel accumulators, row-major from the top-left (for writing partial renders, core/frame/partial.h).
+    // The per-pixel accumulators, row-major from the top-left (for writing partial renders, core/partial/partial.h).
     const std::vector<FilmPixel>& pixels() const { return m_pixels; }
     std::vector<FilmPixel>& mutable_pixels() { return m_pixels; }  // e.g. AdaptiveMask::combine; same size
     // A film holding these accumulators (width * height of them), e.g. read back from a partial render.
