@@ -96,8 +96,8 @@ inline DistanceSample sample_distance(const HomogeneousMedium& m, vec3 beta, flo
     const vec3 probs = channel_probabilities(m, beta);
     const int c = u_channel < probs.x ? 0 : (u_channel < probs.x + probs.y ? 1 : 2);
     const float st_c = m.sigma_t()[c];
-    const float t = st_c > 0.f ? -std::log1p(-std::min(u_dist, 0x1.fffffep-1f)) / st_c
-                               : std::numeric_limits<float>::infinity();
+    const float t =
+        st_c > 0.f ? -std::log1p(-std::min(u_dist, 0x1.fffffep-1f)) / st_c : std::numeric_limits<float>::infinity();
     DistanceSample s;
     s.scattered = t < tmax;
     s.t = s.scattered ? t : tmax;

@@ -26,10 +26,11 @@ TEST(Medium, HenyeyGreensteinSamplingMatchesItsPdf) {
         test::Chi2Options opt;
         opt.sample_count = 200000;
         opt.test_count = 4;
-        const auto r = test::chi2_test([&](Pcg32& rng) -> std::optional<vec3> {
-            return sample_hg(d, g, vec2(rng.next_float(), rng.next_float()));
-        },
-                                       [&](vec3 w) { return double(hg_phase(glm::dot(d, w), g)); }, opt);
+        const auto r = test::chi2_test(
+            [&](Pcg32& rng) -> std::optional<vec3> {
+                return sample_hg(d, g, vec2(rng.next_float(), rng.next_float()));
+            },
+            [&](vec3 w) { return double(hg_phase(glm::dot(d, w), g)); }, opt);
         EXPECT_TRUE(r.passed) << "g = " << g << ": " << r.message;
         EXPECT_NEAR(r.pdf_integral, 1.0, 2e-3) << "g = " << g;
     }
