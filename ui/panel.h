@@ -57,8 +57,7 @@ struct PanelFacts {
     std::vector<std::string> warnings;
     int full_width = 0, full_height = 0;  // the image region, in pixels
     int level = 1;                        // render resolution divisor (4, 2 or 1)
-    bool minimised = false;
-    double frame_ms = 0.0;  // the UI's last frame
+    double frame_ms = 0.0;                // the UI's last frame
     const Compare* compare = nullptr;
     bool compare_camera_moved = false;  // B was held from another camera
 };

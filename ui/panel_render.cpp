@@ -38,8 +38,7 @@ void Panel::progress(ViewState& state, const PanelFacts& facts, PanelActions& ac
     ImGui::Text("%.1f ms/pass   UI frame %.1f ms", s.ms_per_pass, facts.frame_ms);
     if (s.dropped) ImGui::TextColored(kWarningColour, "%llu non-finite samples dropped", (unsigned long long)s.dropped);
     const char* status =
-        facts.minimised    ? "minimised: paused"
-        : state.paused     ? "paused"
+        state.paused       ? "paused"
         : s.target_reached ? (s.active_fraction == 0.0 ? "noise threshold reached: stopped" : "target reached: stopped")
                            : "rendering";
     // Always said: the denoised image or the raw accumulation (N toggles; the errors are the raw estimator's).

@@ -123,7 +123,8 @@ BenchSeries run_series(const BenchOptions& o, const BenchConfig& config, Rendere
     for (const auto& samples : by_point) {
         series.points.push_back(summarise(samples));
         const BenchPoint& p = series.points.back();
-        // Fits skip spp < 4, where every estimator is still pre-asymptotic (TEST-CATALOG 4.8).
+        // Fits skip spp < 4, where every estimator is still pre-asymptotic (low-discrepancy samplers reach their
+        // asymptotic error slope only past a few samples per pixel).
         if (p.spp >= 4) {
             spp.push_back(p.spp);
             secs.push_back(p.seconds.mean);

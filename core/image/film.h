@@ -1,7 +1,7 @@
 // core/image/film.h: per-pixel accumulation of radiance samples in double precision (a float running sum stalls at
-// 2^24 ulps: TEST-CATALOG 4.6). Each pixel keeps the sum, the sum of squares (per channel) and the sum of its
-// even-indexed samples, so a reference-free error estimate can compare the even and odd half-buffers (which
-// must be independent estimators: both samplers guarantee it, core/sampling/sampler.h).
+// 2^24 ulps: float accumulation loses samples past that). Each pixel keeps the sum, the sum of squares (per channel)
+// and the sum of its even-indexed samples, so a reference-free error estimate can compare the even and odd half-buffers
+// (which must be independent estimators: both samplers guarantee it, core/sampling/sampler.h).
 #pragma once
 
 #include <algorithm>

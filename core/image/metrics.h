@@ -1,5 +1,5 @@
 // core/image/metrics.h: image error metrics against a reference and small statistics for speed-vs-error reports.
-// Conventions (TEST-CATALOG 6, tev and SimpleImageIO): every metric is a mean over pixels AND channels;
+// Conventions (as tev and SimpleImageIO compute them): every metric is a mean over pixels AND channels;
 // relMSE = (x - r)^2 / (r^2 + eps), MAPE = |x - r| / (|r| + eps), eps = 0.01, no trimming unless asked.
 // Sums are in double. Mismatched image sizes throw pv::Error.
 #pragma once

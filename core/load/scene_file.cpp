@@ -53,9 +53,11 @@ struct JsonReader {
         char range[96];
         std::snprintf(range, sizeof range, "expected a number in [%g, %g]", double(lo), double(hi));
         if (!j.is_number()) fail(at, range);
+        // Compared as the float it becomes: the bounds are floats, and 0.001 (a double) is below 1e-3f.
         const double v = j.get<double>();
-        if (!std::isfinite(v) || v < double(lo) || v > double(hi)) fail(at, range);
-        return float(v);
+        const float f = float(v);
+        if (!std::isfinite(v) || !std::isfinite(f) || f < lo || f > hi) fail(at, range);
+        return f;
     }
     vec3 vec(const json& j, const Ptr& at, float lo, float hi) const {
         char range[128];

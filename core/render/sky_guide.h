@@ -60,7 +60,6 @@ public:
     // The bin of direction dir (unit), and the cell of point p (clamped to the grid).
     static int bin(vec3 dir);
     int cell(vec3 p) const { return m_grid.cell(p); }
-    static float bin_solid_angle() { return 4.f * kPi / float(kBins); }
     // Solid-angle density toward dir (unit) from p, or from a point of cell `cell`; 0 for an invalid guide.
     float pdf(vec3 p, vec3 dir) const { return m_cells.empty() ? 0.f : pdf_in(cell(p), dir); }
     float pdf_in(int cell, vec3 dir) const { return m_cells[size_t(cell)].pdf[bin(dir)]; }
@@ -78,7 +77,7 @@ private:
     // cell touch one block, no pointer to follow). A slot packs DiscreteDistribution's (threshold, own, alias) for
     // 128 slots of 2^16 values of k each: threshold << 14 | own << 7 | alias.
     struct alignas(64) CellTable {
-        float pdf[kBins];  // P(bin) / bin_solid_angle
+        float pdf[kBins];  // P(bin) / the bin's solid angle (4 pi / kBins)
         uint32_t slot[kBins];
     };
     static constexpr uint32_t kSlotShift = DiscreteDistribution::kBits - 7;  // 2^7 = kBins slots

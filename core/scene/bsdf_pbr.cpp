@@ -4,6 +4,7 @@
 #include <cfloat>
 
 #include "core/sampling/warp.h"
+#include "core/scene/ggx_albedo_table.h"
 #include "core/scene/microfacet.h"
 
 namespace pv {
@@ -36,6 +37,39 @@ vec3 fresnel_reflect(const MR& b, float c, float eta) {
     return f;
 }
 
+// Kulla-Conty multiple scattering for the metal lobe ("Revisiting Physically Based Shading at Imageworks", SIGGRAPH
+// 2017): single-scattering GGX reflects E(mu_o, alpha) of a white furnace (down to 0.31 at alpha 1); the energy lost
+// between microfacets is returned by f_ms = (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)), whose albedo is exactly
+// 1 - E(mu_o), scaled for a coloured (Schlick) metal by the series of Fresnel-weighted bounces,
+// F_avg^2 E_avg / (1 - F_avg (1 - E_avg)) with F_avg = C + (1 - C) / 21 (1 for white). E and E_avg are bilinear in
+// the table of core/scene/ggx_albedo_table.h (mu nodes at cell centres, alpha nodes at j / 31); the pdf of its
+// cosine sample is exact (pdf_mr), so interpolation error only moves the albedo (< 1%), never the estimator's mean.
+float ggx_albedo(float mu, float alpha) {
+    constexpr int n = kGgxAlbedoN;
+    // Linear extrapolation over the half cells outside the outer mu nodes (E rises again toward grazing).
+    const float x = glm::clamp(mu * float(n) - 0.5f, -0.5f, float(n) - 0.5f);
+    const float y = glm::clamp(alpha * float(n - 1), 0.f, float(n - 1));
+    const int x0 = glm::clamp(int(x), 0, n - 2), y0 = glm::min(int(y), n - 2);
+    const float tx = x - float(x0), ty = y - float(y0);
+    const float a = glm::mix(kGgxAlbedo[y0][x0], kGgxAlbedo[y0][x0 + 1], tx);
+    const float b = glm::mix(kGgxAlbedo[y0 + 1][x0], kGgxAlbedo[y0 + 1][x0 + 1], tx);
+    return glm::clamp(glm::mix(a, b, ty), 0.f, 1.f);
+}
+float ggx_albedo_avg(float alpha) {
+    constexpr int n = kGgxAlbedoN;
+    const float y = glm::clamp(alpha * float(n - 1), 0.f, float(n - 1));
+    const int y0 = glm::min(int(y), n - 2);
+    return glm::mix(kGgxAlbedoAvg[y0], kGgxAlbedoAvg[y0 + 1], y - float(y0));
+}
+// The metal's multiple-scattering weight metallic * colour term / (pi (1 - E_avg)); f_ms = weight (1 - E_o)(1 - E_i).
+vec3 metal_ms_weight(const MetallicRoughness& b) {
+    const float e_avg = ggx_albedo_avg(b.alpha);
+    const vec3 f_avg = b.base_color + (vec3(1.f) - b.base_color) * (1.f / 21.f);
+    const vec3 colour = f_avg * f_avg * e_avg / (vec3(1.f) - f_avg * (1.f - e_avg));
+    return colour * (b.metallic * kInvPi / glm::max(1.f - e_avg, 1e-6f));
+}
+bool has_metal_ms(const MetallicRoughness& b) { return b.alpha > 0.f && b.has(MetallicRoughness::kMetal); }
+
 // wo and wi seen from wo's side (wo.z >= 0), and the relative IOR there.
 struct Side {
     vec3 wo, wi;
@@ -52,10 +86,11 @@ Side side_of(const MR& b, vec3 wo, vec3 wi) {
 }
 
 // Lobe selection probabilities for wo (cos_o > 0): reflection (dielectric specular + metal, one GGX distribution),
-// diffuse, transmission, in proportion to the luminance of each lobe's weight at normal-ish incidence; a present
-// lobe has at least a small probability, so that sample() reaches wherever eval() is nonzero.
+// the metal's multiple scattering (its albedo), diffuse, transmission, in proportion to the luminance of each lobe's
+// weight at normal-ish incidence; a present lobe has at least a small probability, so that sample() reaches wherever
+// eval() is nonzero.
 struct LobeProbs {
-    float r = 0.f, d = 0.f, t = 0.f;
+    float r = 0.f, m = 0.f, d = 0.f, t = 0.f;
 };
 LobeProbs lobe_probs(const MR& b, float cos_o, float eta) {
     constexpr float kFloor = 1e-3f;
@@ -65,10 +100,12 @@ LobeProbs lobe_probs(const MR& b, float cos_o, float eta) {
     const float base = (1.f - b.metallic) * luminance(b.base_color * (vec3(1.f) - fl));
     if (b.has(MR::kDiffuse)) p.d = glm::max((1.f - b.transmission) * base, kFloor);
     if (b.has(MR::kTransmission)) p.t = glm::max(b.transmission * base, kFloor);
-    const float sum = p.r + p.d + p.t;
+    if (has_metal_ms(b)) p.m = luminance(metal_ms_weight(b)) * kPi * (1.f - ggx_albedo(cos_o, b.alpha));
+    const float sum = p.r + p.m + p.d + p.t;
     if (!(sum > 0.f)) return LobeProbs{};
     const float inv = 1.f / sum;
     p.r *= inv;
+    p.m *= inv;
     p.d *= inv;
     p.t *= inv;
     return p;
@@ -127,6 +164,11 @@ vec3 eval_side(const MR& b, const Side& s, float* pdf_out) {
                 const vec3 h = glm::normalize(wo + wi);
                 f += fresnel_reflect(b, glm::dot(wo, h), s.eta) * g;
                 pdf += p.r * pr;
+                if (has_metal_ms(b)) {
+                    const float lost = (1.f - ggx_albedo(wo.z, b.alpha)) * (1.f - ggx_albedo(wi.z, b.alpha));
+                    f += metal_ms_weight(b) * lost;
+                    pdf += p.m * cosine_hemisphere_pdf(wi.z);
+                }
             }
         } else if (wi.z < 0.f && b.alpha > 0.f && b.has(MR::kTransmission)) {
             const vec3 tint = ((1.f - b.metallic) * b.transmission) * b.base_color;
@@ -230,7 +272,12 @@ std::optional<BsdfSample> sample_mr(const MetallicRoughness& b, vec3 wo_in, floa
         if (!(wi.z > 0.f)) return std::nullopt;
         return finish(wi, vec3(0.f), 0.f, false, 1.f);
     }
-    if (u_lobe < p.r + p.d || !(p.t > 0.f)) {
+    if (u_lobe < p.r + p.m) {  // the metal's multiple scattering: cosine-distributed
+        const vec3 wi = square_to_cosine_hemisphere(u);
+        if (!(wi.z > 0.f)) return std::nullopt;
+        return finish(wi, vec3(0.f), 0.f, false, 1.f);
+    }
+    if (u_lobe < p.r + p.m + p.d || !(p.t > 0.f)) {
         if (!(p.d > 0.f)) return std::nullopt;
         const vec3 wi = square_to_cosine_hemisphere(u);
         if (!(wi.z > 0.f)) return std::nullopt;

@@ -1,7 +1,6 @@
 // tests/gui/test_ui_compare.cpp: the compare room (compare.h: holding B, loading it from an EXR, relMSE against it,
 // the difference image, the views and the divider) and the gestures that drive it (navigation.h). No display.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -11,26 +10,10 @@
 #include "core/image/image_io.h"
 #include "core/image/metrics.h"
 #include "navigation.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv::ui {
 namespace {
-
-namespace fs = std::filesystem;
-
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = fs::path(::testing::TempDir()) /
-               ("pathview-compare-" + std::to_string(getpid()) + "-" + info->test_suite_name() + "-" + info->name());
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
 
 CameraDesc camera_at(float z) { return CameraDesc{vec3(0.f, 0.f, z), vec3(0.f), vec3(0.f, 1.f, 0.f), 40.f}; }
 
@@ -99,7 +82,7 @@ TEST(ViewerCompare, HoldingNothingRenderedKeepsBAndSaysSo) {
 // An EXR of the image's size becomes B (with no camera: never "moved"); a wrong-size or unreadable one leaves B as it
 // was and says so in one line naming the file.
 TEST(ViewerCompare, LoadChecksTheFileAndItsSize) {
-    TempDir dir;
+    const test::TestDir dir("pathview-compare");
     const std::string good = (dir.path / "ref.exr").string();
     const std::string small = (dir.path / "small.exr").string();
     const std::string junk = (dir.path / "junk.exr").string();

@@ -1,31 +1,17 @@
 // tests/gui/test_ui_drop.cpp: files dropped on the window (drop.h): the dispatch by extension, and the current scene
 // with a dropped environment map. No display.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
 
 #include "core/base/error.h"
 #include "core/image/image_io.h"
 #include "core/load/scene_file.h"
 #include "drop.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv::ui {
-namespace {
-
-namespace fs = std::filesystem;
-
-fs::path temp_dir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    fs::path p = fs::path(::testing::TempDir()) /
-                 ("pathview-drop-" + std::to_string(getpid()) + "-" + info->test_suite_name() + "-" + info->name());
-    fs::remove_all(p);
-    fs::create_directories(p);
-    return p;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 TEST(ViewerDrop, KindByExtensionInAnyCase) {
     for (const char* p : {"a.obj", "dir/b.JSON", "c.gltf", "/x/y/d.GLB"}) EXPECT_EQ(drop_kind(p), DropKind::Scene) << p;
@@ -56,12 +42,12 @@ TEST(ViewerDrop, FirstKnownFileIsLoadedAndUnknownOnesAreNamed) {
 // A dropped map lights the current scene as `--environment MAP` would, from the current camera and with the edited
 // materials and light; a bad file throws naming it and the scene is untouched.
 TEST(ViewerDrop, EnvironmentMapJoinsTheSceneAsEdited) {
-    const fs::path dir = temp_dir();
+    const test::TestDir dir("pathview-drop");
     const Scene scene = load_scene(builtin_scene_path());
     Image map(8, 4);
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 8; ++x) map.set(x, y, vec3(0.5f + 0.1f * float(x), 0.25f, 1.f));
-    const std::string map_path = (dir / "sky.exr").string();
+    const std::string map_path = dir.file("sky.exr");
     write_exr(map_path, map);
     const CameraDesc camera{vec3(1.f, 2.f, 3.f), vec3(0.f), vec3(0.f, 1.f, 0.f), 35.f};
     std::vector<Material> materials = scene.materials;
@@ -83,16 +69,14 @@ TEST(ViewerDrop, EnvironmentMapJoinsTheSceneAsEdited) {
     EXPECT_EQ(lit.triangle_count(), scene.triangle_count());
     EXPECT_EQ(scene.environment_map, load_scene(builtin_scene_path()).environment_map);  // the original is untouched
 
-    std::ofstream(dir / "junk.hdr") << "not an image";
-    for (const fs::path& bad : {dir / "junk.hdr", dir / "missing.exr"}) {
+    for (const std::string& bad : {dir.write("junk.hdr", "not an image"), dir.file("missing.exr")}) {
         try {
-            with_environment_map(scene, bad.string(), camera, materials, env);
+            with_environment_map(scene, bad, camera, materials, env);
             ADD_FAILURE() << bad << " loaded";
         } catch (const Error& e) {
-            EXPECT_EQ(std::string(e.what()).rfind(bad.string(), 0), 0u) << e.what();
+            EXPECT_EQ(std::string(e.what()).rfind(bad, 0), 0u) << e.what();
         }
     }
-    fs::remove_all(dir);
 }
 
 }  // namespace pv::ui

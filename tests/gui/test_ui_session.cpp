@@ -2,7 +2,6 @@
 // (active_scene.h), bookmarks (bookmarks.h), snapshot requests (snapshots.h), the accumulation on screen
 // (shown_image.h), restart requests (restarts.h) and the latency log lines (frame_stats.h). Needs no display.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
@@ -17,27 +16,12 @@
 #include "restarts.h"
 #include "shown_image.h"
 #include "snapshots.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv::ui {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A fresh folder under the test temp dir, removed at the end of the test.
-struct TempDir {
-    fs::path path;
-    TempDir() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = fs::path(::testing::TempDir()) /
-               ("pathview-ui-" + std::to_string(getpid()) + "-" + info->test_suite_name() + "-" + info->name());
-        fs::remove_all(path);
-        fs::create_directories(path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(path, ec);
-    }
-};
 
 std::string read_text(const fs::path& p) {
     std::ifstream in(p);
@@ -145,7 +129,7 @@ void save_front(ViewState& state, CameraDesc camera, const fs::path& file) {
 }  // namespace
 
 TEST(ViewerBookmarks, SaveWritesTheSceneFileAndReplacesByName) {
-    TempDir dir;
+    const test::TestDir dir("pathview-ui");
     const fs::path file = dir.path / "scene.json";
     fs::copy_file(builtin_scene_path(), file);
     ViewState state;
@@ -164,7 +148,7 @@ TEST(ViewerBookmarks, SaveWritesTheSceneFileAndReplacesByName) {
 }
 
 TEST(ViewerBookmarks, SaveErrorIsShownAndTheListKept) {
-    TempDir dir;
+    const test::TestDir dir("pathview-ui");
     const fs::path file = dir.path / "broken.json";
     std::ofstream(file) << "[1, 2]";
     ViewState state;
@@ -199,7 +183,7 @@ Snapshot small_snapshot(uint32_t spp) {
 }  // namespace
 
 TEST(ViewerSnapshots, NothingRenderedYetWritesNothing) {
-    TempDir dir;
+    const test::TestDir dir("pathview-ui");
     ViewLog log("");
     Snapshots snapshots(dir.path.string(), nullptr, log);
     ViewState state;
@@ -212,7 +196,7 @@ TEST(ViewerSnapshots, NothingRenderedYetWritesNothing) {
 }
 
 TEST(ViewerSnapshots, SaveReportsTheFileWhenWritten) {
-    TempDir dir;
+    const test::TestDir dir("pathview-ui");
     std::atomic<int> wakes{0};
     ViewLog log("");
     Snapshots snapshots(
@@ -232,7 +216,7 @@ TEST(ViewerSnapshots, SaveReportsTheFileWhenWritten) {
 }
 
 TEST(ViewerSnapshots, AWriteErrorIsShown) {
-    TempDir dir;
+    const test::TestDir dir("pathview-ui");
     ViewLog log("");
     Snapshots snapshots((dir.path / "missing-folder").string(), nullptr, log);
     ViewState state;
@@ -362,7 +346,7 @@ TEST(ViewerRestarts, RequestAtTheLevelWithEditsOnlyWhenChanged) {
 }
 
 TEST(ViewerRestarts, PostedRequestReachesTheScheduleAndTheLog) {
-    TempDir dir;
+    const test::TestDir dir("pathview-ui");
     const fs::path log_path = dir.path / "view.log";
     {
         ViewLog log(log_path.string());

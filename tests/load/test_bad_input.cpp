@@ -1,6 +1,7 @@
-// tests/load/test_bad_input.cpp: golden tests of malformed input (TEST-CATALOG 5.1). Each file in tests/data gives
-// pv::Error naming the file and line, or loads with the documented warning; none crashes. Then the CLI:
-// `pathview render` with a missing scene or an unwritable output exits non-zero with one line naming the file.
+// tests/load/test_bad_input.cpp: golden tests of malformed input (how tinyobjloader reads malformed files, probed under
+// ASan/UBSan). Each file in tests/data gives pv::Error naming the file and line, or loads with the documented warning;
+// none crashes. Then the CLI: `pathview render` with a missing scene or an unwritable output exits non-zero with one
+// line naming the file.
 #include <gtest/gtest.h>
 
 #include <filesystem>

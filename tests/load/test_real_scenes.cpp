@@ -350,8 +350,9 @@ TEST(Environment, DiffusePlaneUnderMapMatchesAnalyticIrradiance) {
 }
 
 // A sun (a cap of uniform radiance, angular radius a) over a white diffuse plane, sun at theta from the normal and
-// fully above the horizon: E = pi L sin^2(a) cos(theta) = irradiance * cos(theta) exactly (TEST-CATALOG 2.3, the
-// sphere case), so the plane's radiance is irradiance * cos(theta) / pi. With and without a sky under it.
+// fully above the horizon: E = pi L sin^2(a) cos(theta) = irradiance * cos(theta) exactly (the closed-form irradiance
+// of a polygonal or spherical light, the sphere case), so the plane's radiance is irradiance * cos(theta) / pi. With
+// and without a sky under it.
 TEST(Environment, SunOnDiffusePlaneMatchesClosedForm) {
     const float theta = glm::radians(40.f);
     const int spp = 20000;

@@ -1,5 +1,5 @@
-// tests/render/test_agreement.cpp: estimator agreement (TEST-CATALOG 3.1-3.3, 2.5). Every switch combination must
-// converge to the same image.
+// tests/render/test_agreement.cpp: estimator agreement (roulette on/off, NEE vs BSDF-only vs MIS, two noisy images
+// compared statistically, the Veach MIS scene). Every switch combination must converge to the same image.
 //  * Cornell box (built-in scene), 24x24: BSDF-only, NEE, MIS (roulette on) and MIS with roulette off, independent
 //    seeds; per-pixel Welch t with Sidak k over the pixel-channels (at most 0.25% above k, none above k + 2) and
 //    the total-mean test (|z| < 3.29) for each pair.

@@ -1,4 +1,4 @@
-// tests/render/test_direct.cpp: direct lighting of a diffuse plane by a polygonal area light (TEST-CATALOG 2.3),
+// tests/render/test_direct.cpp: direct lighting of a diffuse plane by a polygonal area light (closed-form irradiance),
 // against Lambert's formula for the irradiance from a uniform polygon:
 //     E = (L / 2) |sum_i acos(v_i . v_i+1) (n . normalize(v_i x v_i+1))|,  pixel = (rho / pi) E,
 // with v_i the unit vectors from the receiver point to the polygon's vertices. max_depth 1 (direct only), with

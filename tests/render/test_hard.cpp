@@ -1,4 +1,5 @@
-// tests/render/test_hard.cpp: hard numerical cases (TEST-CATALOG 4.1-4.6):
+// tests/render/test_hard.cpp: hard numerical cases (self-intersection, degenerate triangles, grazing angles, shading
+// normals, NaN guards, float accumulation):
 //  * scale and translation invariance of the Cornell box;
 //  * grazing and extreme inputs to every BSDF, warp and the light set;
 //  * shading normals: zero, flipped, a low-poly smooth sphere in the furnace, Veach's same-side rule;

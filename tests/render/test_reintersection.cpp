@@ -1,4 +1,4 @@
-// tests/render/test_reintersection.cpp: self-intersection (TEST-CATALOG 4.1, after pbrt's Triangle.Reintersect): random
+// tests/render/test_reintersection.cpp: self-intersection (after pbrt's Triangle.Reintersect): random
 // triangles whose vertex coordinates are 10^U(-8,8); a ray from outside hits a random point, the hit point is
 // reconstructed from Embree's barycentrics as the integrator does, and rays spawned from it (offset_ray_origin
 // with the barycentric error bound; uniform directions and shadow-ray segments towards random points) must never

@@ -1,5 +1,5 @@
-// tests/render/test_robustness.cpp: robustness cases the other suites leave open (TEST-CATALOG 4.1 Test B, the Embree
-// reproducers of 4.1, 4.4(c), and 2.2 with the Sobol sampler).
+// tests/render/test_robustness.cpp: robustness cases the other suites leave open (the offset methods' Test B, the
+// Embree reproducers of 4.1, 4.4(c), and 2.2 with the Sobol sampler).
 //  * Concave corner: rays spawned (as the integrator spawns them) from one face of a 90 or 5 degree wedge toward
 //    the other at grazing angles hit the other face at the analytic t; none re-hits its own face.
 //  * Contact shadow: direct light from a uniform sky on a wedge has a closed form (1 minus Lambert's polygon form
@@ -554,7 +554,8 @@ TEST(ZeroCoordinateWall, ShadowRaysAreNotOccludedByTheirOwnWallAtHugeScale) {
     }
 }
 
-// ---------------------------------------------------------------- black rim counter (TEST-CATALOG 4.4(c))
+// ---------------------------------------------------------------- black rim counter (shading normals facing away from
+// the geometric normal)
 
 // A low-poly (8 x 6) smooth-shaded sphere of albedo 1 in a white furnace L = 1. Every path that is not cut
 // returns exactly L, so a pixel can only lose energy where the shading normals disagree with the facets (Veach's
@@ -635,7 +636,7 @@ struct SobolCase {
     int depth;  // 1024: unbounded
 };
 
-// The inward sphere with Le = 0.5, Kd = 0.5 (TEST-CATALOG 2.2): L_D = Le (1 - rho^(D+1)) / (1 - rho), 1 for
+// The inward sphere with Le = 0.5, Kd = 0.5 (the closed diffuse enclosure): L_D = Le (1 - rho^(D+1)) / (1 - rho), 1 for
 // unbounded depth. Sobol samples within a pixel are not independent (that is their point), so the per-sample
 // variance says nothing about the error of their mean. Each of R = 32 seeds gives an independently scrambled
 // image; its mean over 8 x 8 pixels x 32 spp is one i.i.d. replica (a mean of 2048 paths, so close to normal even

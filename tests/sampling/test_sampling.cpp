@@ -1,4 +1,5 @@
-// tests/sampling/test_sampling.cpp: statistical tests of every sampling routine (TEST-CATALOG 1.1-1.5):
+// tests/sampling/test_sampling.cpp: statistical tests of every sampling routine (chi-square goodness of fit,
+// eval/pdf/sample consistency, albedo <= 1, reciprocity):
 //  * chi-square goodness of fit (tests/support/chi2.h) of the hemisphere/sphere warps, the Lambertian, the GGX
 //    glossy lobe at alpha 0.05/0.2/0.6/1 and several wo down to near grazing, diffuse + GGX, and triangle light
 //    sampling (area sampling converted to solid angle);

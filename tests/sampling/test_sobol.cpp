@@ -1,7 +1,7 @@
-// tests/sampling/test_sobol.cpp: the Owen-scrambled padded Sobol sampler (TEST-CATALOG 4.7, 4.8): every 2D draw of the
-// first 2^m even (or odd) samples of a pixel is a (0,m,2)-net (pbrt-v4's ElementaryIntervals test), 1D draws are
-// stratified, the even and odd halves are uncorrelated, values are never 1.0, and the values depend only on
-// (pixel, index, seed, dimension).
+// tests/sampling/test_sobol.cpp: the Owen-scrambled padded Sobol sampler (stratification, decorrelation across pixels,
+// determinism): every 2D draw of the first 2^m even (or odd) samples of a pixel is a (0,m,2)-net (pbrt-v4's
+// ElementaryIntervals test), 1D draws are stratified, the even and odd halves are uncorrelated, values are never 1.0,
+// and the values depend only on (pixel, index, seed, dimension).
 #include <gtest/gtest.h>
 
 #include <vector>

@@ -1,4 +1,5 @@
-// tests/scene/test_analytic.cpp: scenes with a closed-form answer (TEST-CATALOG 2.1 and 2.2).
+// tests/scene/test_analytic.cpp: scenes with a closed-form answer (the white furnace around a convex object, and the
+// closed diffuse enclosure with uniform emission).
 //  * White furnace: a closed convex sphere mesh in a constant environment L. Lambert albedo rho returns rho*L;
 //    with BSDF-only sampling and no roulette every single sample is exact (zero variance).
 //  * Closed emissive enclosure (inward sphere, Ke = 0.5, Kd = 0.5): L = Le / (1 - rho) = 1 and, with at most D

@@ -3,8 +3,8 @@
 //    sides, with delta lobes mixed in (their samples are left out: pdf() is the density of the non-delta ones);
 //  * sample() agrees with eval() and pdf(); delta samples carry their discrete probability;
 //  * white furnace: directional albedo <= 1 (importance-transported: refraction times eta^2) for every combination
-//    with colours 1; a metal of base colour 1 and roughness 0 reflects exactly 1; the single-scattering GGX metal at
-//    roughness 1 (alpha 1) loses what the closed form and the literature say;
+//    with colours 1; a metal of base colour 1 and roughness 0 reflects exactly 1; the single-scattering GGX albedo
+//    table matches the closed form, the literature and Monte Carlo; a white rough metal reflects 1 (Kulla-Conty);
 //  * reciprocity of eval() for reflection; specular 0 is exactly Lambert (the glTF Cornell box's base);
 //  * Beer-Lambert attenuation through a solid (KHR_materials_volume), applied by the path tracer.
 #include <gtest/gtest.h>
@@ -14,7 +14,9 @@
 
 #include "core/sampling/warp.h"
 #include "core/scene/bsdf.h"
+#include "core/scene/ggx_albedo_table.h"
 #include "core/scene/material_params.h"
+#include "core/scene/microfacet.h"
 #include "tests/support/chi2.h"
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
@@ -209,29 +211,59 @@ TEST(MetallicRoughnessFurnace, SmoothWhiteMetalReflectsExactlyOne) {
 
 // Single-scattering GGX loses energy at high roughness (no multiple scattering between microfacets). At roughness 1
 // (alpha 1) and normal incidence it has a closed form: D = 1/pi everywhere, G1(wo) = 1 and G1(wi) = 2 cos / (1 + cos),
-// so E = int D G1(wi) / 4 dwi = 1/2 int_0^1 2c / (1 + c) dc = 1 - ln 2 = 0.307 (a loss of 69%: the microfacets
-// tilted more than 45 degrees reflect below the horizon). Averaged over the hemisphere (E_avg = 2 int E(mu) mu dmu)
-// our separable Smith G gives 0.377 (numerical quadrature, 300 x 600 cells; 0.409 with the height-correlated G):
-// Kulla and Conty, "Revisiting Physically Based Shading at Imageworks" (SIGGRAPH 2017 course), plot the missing
-// energy 1 - E_avg of GGX rising to about 60% at roughness 1, which is the bracket [0.35, 0.45] used here.
-TEST(MetallicRoughnessFurnace, RoughMetalLosesWhatSingleScatteringGgxLoses) {
-    const Bsdf b = mr(vec3(1.f), 1.f, 1.f);
-    const test::Moments normal = albedo(b, vec3(0.f, 0.f, 1.f), 1 << 18, 3);
-    const double k = test::sidak_k(2.0);
-    EXPECT_NEAR(normal.mean, 1.0 - std::log(2.0), k * normal.stderr_of_mean() + 1e-4) << normal.stderr_of_mean();
-    // E_avg by stratified mu (midpoints of 32 strata).
-    double e_avg = 0.0, var = 0.0;
-    for (int i = 0; i < 32; ++i) {
-        const float mu = (float(i) + 0.5f) / 32.f;
-        const test::Moments a = albedo(b, dir_from_cos(mu), 1 << 14, uint64_t(100 + i));
-        e_avg += 2.0 * a.mean * mu / 32.0;
-        var += sqr(2.0 * mu / 32.0) * sqr(a.stderr_of_mean());
+// so E = int D G1(wi) / 4 dwi = 1/2 int_0^1 2c / (1 + c) dc = 1 - ln 2 = 0.307 (a loss of 69%). Averaged over the
+// hemisphere (E_avg = 2 int E(mu) mu dmu) our separable Smith G gives 0.377 (0.409 with the height-correlated G):
+// Kulla and Conty (SIGGRAPH 2017 course) plot the missing energy 1 - E_avg of GGX rising to about 60% at roughness 1,
+// the bracket [0.35, 0.45] used here. The metal lobe returns that energy (Kulla-Conty, core/scene/bsdf_pbr.cpp) from
+// the table core/scene/ggx_albedo_table.h, checked here against an independent Monte Carlo integration of
+// D G1(wo) G1(wi) / (4 cos_o cos_i) (cosine-sampled wi) at a few nodes, within 4 sigma + 1e-3 (the generator's
+// stratified 256 x 256 integration is far tighter than that).
+double ggx_albedo_mc(float mu, float alpha, int n, uint64_t seed, double* stderr_out) {
+    const vec3 wo = dir_from_cos(mu);
+    Pcg32 g(seed, 3);
+    test::Moments m;
+    for (int i = 0; i < n; ++i) {
+        const vec3 wi = square_to_cosine_hemisphere(vec2(g.next_float(), g.next_float()));
+        if (!(wi.z > 0.f)) {
+            m.add(0.0);
+            continue;
+        }
+        const vec3 h = glm::normalize(wo + wi);
+        const double f = double(ggx_d(h, alpha)) * ggx_g1(wo, alpha) * ggx_g1(wi, alpha) / (4.0 * wo.z * wi.z);
+        m.add(f * wi.z / double(cosine_hemisphere_pdf(wi.z)));
     }
-    EXPECT_GT(e_avg, 0.35) << std::sqrt(var);
-    EXPECT_LT(e_avg, 0.45) << std::sqrt(var);
-    // And a smoother metal loses little: alpha 0.09 keeps over 97% at normal incidence.
-    const test::Moments smooth = albedo(mr(vec3(1.f), 1.f, 0.3f), vec3(0.f, 0.f, 1.f), 1 << 14, 5);
-    EXPECT_GT(smooth.mean, 0.97);
+    *stderr_out = m.stderr_of_mean();
+    return m.mean;
+}
+
+TEST(MetallicRoughnessFurnace, GgxAlbedoTableMatchesMonteCarlo) {
+    double se = 0.0;
+    const double normal = ggx_albedo_mc(1.f, 1.f, 1 << 18, 3, &se);
+    EXPECT_NEAR(normal, 1.0 - std::log(2.0), 4.0 * se + 1e-4);
+    EXPECT_GT(kGgxAlbedoAvg[kGgxAlbedoN - 1], 0.35f);
+    EXPECT_LT(kGgxAlbedoAvg[kGgxAlbedoN - 1], 0.45f);
+    for (int a : {8, 16, 31})
+        for (int m : {3, 16, 31}) {
+            const float alpha = float(a) / float(kGgxAlbedoN - 1), mu = (float(m) + 0.5f) / float(kGgxAlbedoN);
+            const double e = ggx_albedo_mc(mu, alpha, 1 << 16, uint64_t(a * 100 + m), &se);
+            EXPECT_NEAR(kGgxAlbedo[a][m], e, 4.0 * se + 1e-3) << "alpha " << alpha << " mu " << mu;
+        }
+}
+
+// Issue 37 item 1: a white rough metal keeps its energy. Without the multiple-scattering lobe these albedos were
+// 0.307/0.408/0.560 at roughness 1 (mu 1/0.5/0.1), 0.419/0.501/0.637 at 0.9, 0.916/0.858/0.853 at 0.5 and 0.929 at
+// 0.2, mu 0.1 (this test failed); with it they are 1 within the table's interpolation error
+// (bilinear on a 32 x 32 grid: < 1%) + 4 sigma.
+TEST(MetallicRoughnessFurnace, WhiteRoughMetalKeepsItsEnergy) {
+    for (float roughness : {0.2f, 0.5f, 0.9f, 1.f}) {
+        const Bsdf b = mr(vec3(1.f), 1.f, roughness);
+        for (float c : {1.f, 0.5f, 0.1f}) {
+            const test::Moments a = albedo(b, dir_from_cos(c), 1 << 16, uint64_t(1000.f * c + 10.f * roughness));
+            std::cout << "roughness " << roughness << " mu " << c << ": " << a.mean << " +- " << a.stderr_of_mean()
+                      << "\n";
+            EXPECT_NEAR(a.mean, 1.0, 0.01 + 4.0 * a.stderr_of_mean()) << "roughness " << roughness << " mu " << c;
+        }
+    }
 }
 
 TEST(MetallicRoughnessBsdf, ReflectionIsReciprocal) {

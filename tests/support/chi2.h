@@ -1,5 +1,5 @@
 // tests/support/chi2.h: chi-square goodness-of-fit test of a direction sampler against its pdf, after Mitsuba 3's
-// ChiSquareTest (src/python/python/chi2.py; TEST-CATALOG 1.1), written from the description:
+// ChiSquareTest (src/python/python/chi2.py; Mitsuba 3's chi-square goodness-of-fit test), written from the description:
 //  1. n samples are mapped to (phi, cos theta) on [-pi, pi] x [-1, 1], an equal-area parameterisation of the sphere
 //     (d omega = d phi d cos theta), and histogrammed on a res_phi x res_cos grid (res_cos odd: no cell boundary
 //     at the horizon);

@@ -1,6 +1,6 @@
 // tests/support/stats.h: the statistics the test suite derives its bounds from: normal quantiles, Sidak-corrected
 // thresholds, the regularized incomplete gamma function (chi-square p-values), running moments in double, and the
-// two-image comparison of TEST-CATALOG 3.3 (per-pixel Welch with Sidak, plus the total-mean test).
+// two-image comparison of noisy renders (per-pixel Welch with Sidak, plus the total-mean test).
 #pragma once
 
 #include <cstdint>
@@ -18,7 +18,8 @@ double normal_two_sided_p(double z);
 // Sidak-corrected per-test level for m simultaneous tests at family level alpha.
 double sidak_alpha(double alpha, double m);
 // k such that a two-sided z-test at the Sidak level passes with probability 1 - alpha over m tests
-// (TEST-CATALOG: m = 1 gives 2.576, m = 100 gives 3.889, m = 1e4 gives 4.891).
+// (Sidak-corrected two-sided normal quantiles at alpha = 0.01: m = 1 gives 2.576, m = 100 gives 3.889, m = 1e4
+// gives 4.891).
 double sidak_k(double m, double alpha = 0.01);
 // Regularized upper incomplete gamma Q(a, x) = 1 - P(a, x) (series / continued fraction, Numerical Recipes 6.2).
 double gamma_q(double a, double x);
@@ -52,7 +53,8 @@ struct PixelStats {
     double total_mean_variance() const;
 };
 
-// Result of comparing two independent noisy images of the same thing (TEST-CATALOG 3.3).
+// Result of comparing two independent noisy images of the same thing (per-pixel Welch tests with Sidak's correction,
+// plus the total-mean test).
 struct ImageComparison {
     size_t channels = 0;  // pixel-channels tested
     size_t failures = 0;  // with |t| > k
