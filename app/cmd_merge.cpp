@@ -1,6 +1,6 @@
-// app/cmd_merge.cpp: `pathview merge OUT PART...`: adds partial renders of one image (core/frame/partial.h) and writes
-// the result: an .exr is itself a partial render (mergeable and resumable; its R, G, B are the image), a .png the
-// tone-mapped mean. Every part is read and checked before anything is written.
+// app/cmd_merge.cpp: `pathview merge OUT PART...`: adds partial renders of one image (core/partial/partial.h) and
+// writes the result: an .exr is itself a partial render (mergeable and resumable; its R, G, B are the image), a .png
+// the tone-mapped mean. Every part is read and checked before anything is written.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,9 +10,9 @@
 #include "app/commands.h"
 #include "core/base/error.h"
 #include "core/base/file_io.h"
-#include "core/frame/partial.h"
-#include "core/frame/partial_merge.h"
 #include "core/image/image_io.h"
+#include "core/partial/partial.h"
+#include "core/partial/partial_merge.h"
 
 namespace pv::app {
 namespace {

@@ -13,16 +13,17 @@
 
 #include "app/commands.h"
 #include "app/progress.h"
+#include "app/render_plan.h"
 #include "core/base/error.h"
 #include "core/base/file_io.h"
-#include "core/frame/aov.h"
-#include "core/frame/partial.h"
-#include "core/frame/partial_merge.h"
+#include "core/denoise/aov.h"
 #include "core/frame/render_output.h"
-#include "core/frame/render_plan.h"
 #include "core/frame/renderer.h"
+#include "core/frame/renderer_partial.h"
 #include "core/image/image_io.h"
 #include "core/load/scene_file.h"
+#include "core/partial/partial.h"
+#include "core/partial/partial_merge.h"
 #include "core/render/sky_guide_training.h"
 
 namespace pv::app {
@@ -35,13 +36,13 @@ struct RenderOptions {
     std::vector<std::string> outs;  // every -o: the same render written to each
     float exposure = 0.f;
     bool quiet = false;
-    std::string samples;  // --samples START:COUNT: a partial render (core/frame/partial.h)
+    std::string samples;  // --samples START:COUNT: a partial render (core/partial/partial.h)
     std::string resume;   // --resume PART.exr: continue a partial render
     std::string shard;    // --shard I/N: shard I of N of --spp's sample indices
     const CLI::App* cmd = nullptr;
-    bool aovs = false;              // feature and film-statistics layers in the EXR (core/frame/aov.h)
-    bool denoise = false;           // NFOR (core/frame/denoise_nfor.h); the raw mean is kept as the noisy.* layer
-    std::string denoiser = "nfor";  // or "atrous", the viewer's interactive filter (core/frame/denoise_atrous.h)
+    bool aovs = false;              // feature and film-statistics layers in the EXR (core/denoise/aov.h)
+    bool denoise = false;           // NFOR (core/denoise/denoise_nfor.h); the raw mean is kept as the noisy.* layer
+    std::string denoiser = "nfor";  // or "atrous", the viewer's interactive filter (core/denoise/denoise_atrous.h)
     std::string region;             // --region x0,y0,x1,y1: render only these pixels (core/frame/renderer.h)
 };
 
@@ -90,7 +91,7 @@ std::string spp_and_seconds(uint32_t spp, double seconds) {
     return text;
 }
 
-// The request of `o`'s flags (core/frame/render_plan.h).
+// The request of `o`'s flags (app/render_plan.h).
 RenderRequest request_of(const RenderOptions& o) {
     RenderRequest r;
     r.spp = o.spp;
@@ -283,7 +284,7 @@ void print_summary(const RenderOptions& o, const Renderer& renderer, const Rende
 
 void run(RenderOptions& o) {
     resolve_switches(o.common);
-    // The plan (core/frame/render_plan.h): sample counts, partial render, resumed part; a part's scene flags apply
+    // The plan (app/render_plan.h): sample counts, partial render, resumed part; a part's scene flags apply
     // as soon as it is read.
     const RenderPlan plan = plan_render(request_of(o), [&](const PartialRender& part) {
         const auto flags = part.info.find("pathview:scene_flags");
@@ -352,7 +353,7 @@ void add_render_command(CLI::App& app) {
     cmd->add_flag("--aovs", o->aovs,
                   "EXR outputs also hold first-hit albedo (Albedo.*), shading normal (Ns.*), "
                   "depth (Z), SampleCount, Variance.* (of the mean) and the even/odd half means (even.*, odd.*); "
-                  "see core/frame/aov.h");
+                  "see core/denoise/aov.h");
     cmd->add_flag("--denoise", o->denoise,
                   "Denoise (NFOR regression on first-hit features, cross-validated between "
                   "the even/odd halves): the image written is denoised, EXRs keep the raw mean as noisy.R/G/B");

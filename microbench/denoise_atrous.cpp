@@ -2,11 +2,11 @@
 // (4 spp, first-hit features), on the calling thread only: a fresh call (features laid out and memory allocated
 // every time) and the viewer's per-frame cost (one denoiser kept, features laid out once). Run:
 // build/microbench/pathview_microbench_denoise
-#include "core/frame/denoise_atrous.h"
+#include "core/denoise/denoise_atrous.h"
 
 #include <benchmark/benchmark.h>
 
-#include "core/frame/aov.h"
+#include "core/denoise/aov.h"
 #include "core/frame/renderer.h"
 #include "core/load/scene_file.h"
 

@@ -23,7 +23,7 @@ check_dir(core "[<\"](gl/|glfw/|glad/|gles|imgui|backends/imgui|epoxy/)" "core n
 set(core_violations "${violations}")
 # core/'s folders are layers (core/CMakeLists.txt): a file includes only from its own folder and those before it,
 # and every source lives in one of them.
-set(layers base sampling image scene render load frame)
+set(layers base sampling image scene render load denoise partial frame)
 file(GLOB core_loose "${ROOT}/core/*.h" "${ROOT}/core/*.cpp")
 foreach(f ${core_loose})
   file(RELATIVE_PATH rel "${ROOT}" "${f}")

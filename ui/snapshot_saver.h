@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "core/frame/partial.h"
 #include "core/frame/progressive.h"
+#include "core/partial/partial.h"
 
 namespace pv::ui {
 
@@ -28,7 +28,7 @@ public:
 
     // Starts writing the snapshot's mean image with its metadata; returns the path it will have.
     std::string save(const Snapshot& snapshot);
-    // Starts writing a partial render (core/frame/partial.h): resumable with `pathview render --resume`.
+    // Starts writing a partial render (core/partial/partial.h): resumable with `pathview render --resume`.
     std::string save_partial(PartialRender part);
     // Results of the writes that finished since the last call, in the order they were started.
     std::vector<SaveResult> finished();

@@ -5,8 +5,8 @@
 #include <chrono>
 
 #include "app/bench/raybench.h"
-#include "core/frame/aov.h"
-#include "core/frame/denoise_atrous.h"
+#include "core/denoise/aov.h"
+#include "core/denoise/denoise_atrous.h"
 #include "core/frame/render_output.h"
 
 namespace pv::app {

@@ -1,5 +1,5 @@
-// core/base/version.h: the pathview version, shown by --version and recorded in partial renders (core/frame/partial.h),
-// which refuse to merge across versions.
+// core/base/version.h: the pathview version, shown by --version and recorded in partial renders
+// (core/partial/partial.h), which refuse to merge across versions.
 #pragma once
 
 namespace pv {

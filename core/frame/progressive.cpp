@@ -9,8 +9,9 @@
 #include <utility>
 
 #include "core/base/error.h"
-#include "core/frame/denoise_atrous.h"
+#include "core/denoise/denoise_atrous.h"
 #include "core/frame/render_output.h"
+#include "core/frame/renderer_partial.h"
 #include "core/image/metrics.h"
 
 namespace pv {

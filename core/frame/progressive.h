@@ -11,8 +11,8 @@
 #include <string>
 #include <thread>
 
-#include "core/frame/aov.h"
-#include "core/frame/denoise_atrous.h"
+#include "core/denoise/aov.h"
+#include "core/denoise/denoise_atrous.h"
 #include "core/frame/renderer.h"
 #include "core/frame/snapshot.h"
 
@@ -53,7 +53,7 @@ public:
     // Blocks until a snapshot of `generation` with spp >= min_spp is published, or the timeout passes
     // (tests and tools; the viewer, at most the rest of a display refresh after posting a restart).
     bool wait_for(uint64_t generation, uint32_t min_spp, std::chrono::milliseconds timeout) const;
-    // Asks for the accumulation as a resumable partial render (core/frame/partial.h; samples [0, spp)), made by the
+    // Asks for the accumulation as a resumable partial render (core/partial/partial.h; samples [0, spp)), made by the
     // driver between passes, also while paused or stopped (after the first pass of a new accumulation). Once it is
     // made, take_partial() returns it (once) and the on_publish callback runs.
     void request_partial();

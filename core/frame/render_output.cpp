@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "core/base/error.h"
-#include "core/frame/denoise_atrous.h"
+#include "core/denoise/denoise_atrous.h"
 
 namespace pv {
 

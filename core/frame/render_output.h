@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/frame/aov.h"
-#include "core/frame/denoise_nfor.h"
+#include "core/denoise/aov.h"
+#include "core/denoise/denoise_nfor.h"
 #include "core/frame/renderer.h"
 #include "core/image/image_io.h"
 
@@ -20,8 +20,8 @@ enum class Denoiser { Nfor, Atrous };
 // seed. When *cancel turns true the image is incomplete (the caller checks the flag and drops it).
 FeatureImage camera_features(const Renderer& renderer, const std::atomic<bool>* cancel = nullptr);
 
-// The film's mean denoised: NFOR (final quality, core/frame/denoise_nfor.h) or the a-trous filter (the viewer's,
-// core/frame/denoise_atrous.h). stats->seconds is the filter's time either way. Cancelled (NFOR only): 0x0.
+// The film's mean denoised: NFOR (final quality, core/denoise/denoise_nfor.h) or the a-trous filter (the viewer's,
+// core/denoise/denoise_atrous.h). stats->seconds is the filter's time either way. Cancelled (NFOR only): 0x0.
 Image denoise_film(const Film& film, const FeatureImage& features, Denoiser denoiser, NforStats* stats = nullptr,
                    const std::atomic<bool>* cancel = nullptr);
 

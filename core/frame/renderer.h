@@ -73,7 +73,7 @@ public:
     void set_keep_sky_guide(bool keep) { m_guide.set_keep(keep); }
 
     // Passes from now on render sample indices first, first + 1, ... (restart() starts at 0), so that a render
-    // can be split into sample ranges and merged (core/frame/partial.h). Not concurrent with render_pass().
+    // can be split into sample ranges and merged (core/partial/partial.h). Not concurrent with render_pass().
     void set_next_sample(uint32_t first) { m_next_sample = first; }
     uint32_t next_sample() const { return m_next_sample; }
     // Replaces the film's accumulators with `film` (the current size; e.g. a partial render being resumed).

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "core/frame/partial.h"
 #include "core/frame/renderer.h"
+#include "core/partial/partial.h"
 
 namespace pv {
 
@@ -48,13 +48,13 @@ struct Snapshot {
     std::string sky_guide;  // Renderer::sky_guide_status()
     double active_fraction = 1.0;
     double seconds_to_threshold = -1.0;
-    // With set_denoise(true): the a-trous denoised mean (core/frame/denoise_atrous.h) of this accumulation at
+    // With set_denoise(true): the a-trous denoised mean (core/denoise/denoise_atrous.h) of this accumulation at
     // denoised_spp samples (it lags spp while rendering: the filter runs at most a third of the time), and the
     // filter's last time. Empty when off or not made yet. rel_mse and every other figure stay the noisy image's.
     std::vector<float> denoised;
     uint32_t denoised_spp = 0;
     double denoise_ms = 0.0;
-    // The denoised image is NFOR's (core/frame/denoise_nfor.h), made once rendering stopped (paused or at its
+    // The denoised image is NFOR's (core/denoise/denoise_nfor.h), made once rendering stopped (paused or at its
     // target) with at least ProgressiveRenderer::kNforMinSpp samples; else the a-trous filter's.
     bool denoised_nfor = false;
     // The first publication of an accumulation: the driver's time from taking the request to this snapshot being

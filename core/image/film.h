@@ -104,7 +104,7 @@ public:
     // Resizes the vectors; returns estimated_rel_mse().
     double views_into(std::vector<float>& rgb, std::vector<float>& rel_error, std::vector<float>& samples) const;
 
-    // The per-pixel accumulators, row-major from the top-left (for writing partial renders, core/frame/partial.h).
+    // The per-pixel accumulators, row-major from the top-left (for writing partial renders, core/partial/partial.h).
     const std::vector<FilmPixel>& pixels() const { return m_pixels; }
     std::vector<FilmPixel>& mutable_pixels() { return m_pixels; }  // e.g. AdaptiveMask::combine; same size
     // A film holding these accumulators (width * height of them), e.g. read back from a partial render.

@@ -8,7 +8,7 @@
 #include "core/scene/bsdf.h"
 #include "core/scene/scene.h"
 
-// The callers: the integrator, the AOV pass (core/frame/aov.cpp: the denoisers' albedo and normal) and the sky
+// The callers: the integrator, the AOV pass (core/denoise/aov.cpp: the denoisers' albedo and normal) and the sky
 // guide's training walk (core/render/sky_guide.cpp) all go through these functions, so that the features and the guide
 // see the surface the render shades.
 

@@ -46,6 +46,8 @@ vec3 fresnel_reflect(const MR& b, float c, float eta) {
 // cosine sample is exact (pdf_mr), so interpolation error only moves the albedo (< 1%), never the estimator's mean.
 float ggx_albedo(float mu, float alpha) {
     constexpr int n = kGgxAlbedoN;
+    if (!(mu >= 0.f)) mu = 0.f;  // NaN too: the int conversions below must see a finite value
+    if (!(alpha >= 0.f)) alpha = 0.f;
     // Linear extrapolation over the half cells outside the outer mu nodes (E rises again toward grazing).
     const float x = glm::clamp(mu * float(n) - 0.5f, -0.5f, float(n) - 0.5f);
     const float y = glm::clamp(alpha * float(n - 1), 0.f, float(n - 1));
@@ -57,6 +59,7 @@ float ggx_albedo(float mu, float alpha) {
 }
 float ggx_albedo_avg(float alpha) {
     constexpr int n = kGgxAlbedoN;
+    if (!(alpha >= 0.f)) alpha = 0.f;
     const float y = glm::clamp(alpha * float(n - 1), 0.f, float(n - 1));
     const int y0 = glm::min(int(y), n - 2);
     return glm::mix(kGgxAlbedoAvg[y0], kGgxAlbedoAvg[y0 + 1], y - float(y0));

@@ -7,6 +7,6 @@ namespace pv {
 
 constexpr int kGgxAlbedoN = 32;
 extern const float kGgxAlbedo[kGgxAlbedoN][kGgxAlbedoN];  // [alpha][mu]
-extern const float kGgxAlbedoAvg[kGgxAlbedoN];               // [alpha]
+extern const float kGgxAlbedoAvg[kGgxAlbedoN];            // [alpha]
 
 }  // namespace pv

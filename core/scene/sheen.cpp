@@ -42,6 +42,8 @@ float sheen_eval(vec3 wo, vec3 wi, float alpha) {
 
 float sheen_albedo(float mu, float alpha) {
     constexpr int n = 16;
+    if (!(mu >= 0.f)) mu = 0.f;  // NaN too: the int conversions below must see a finite value
+    if (!(alpha >= 0.f)) alpha = 0.f;
     const float x = std::clamp(mu, 0.f, 1.f) * float(n - 1), y = std::clamp(alpha, 0.f, 1.f) * float(n - 1);
     const int i = std::min(int(x), n - 2), j = std::min(int(y), n - 2);
     const float fx = x - float(i), fy = y - float(j);

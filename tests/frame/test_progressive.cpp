@@ -8,10 +8,10 @@
 #include <cstring>
 #include <thread>
 
-#include "core/frame/denoise_nfor.h"
-#include "core/frame/partial.h"
+#include "core/denoise/denoise_nfor.h"
 #include "core/frame/progressive.h"
 #include "core/load/scene_file.h"
+#include "core/partial/partial.h"
 
 namespace pv {
 namespace {
@@ -200,8 +200,8 @@ TEST(ProgressiveRenderer, DestructorWhileRendering) {
 }
 
 // ---------------------------------------------------------------- the viewer's resumable snapshot
-// request_partial(): the partial render (core/frame/partial.h) is made between passes (its film is exactly that of spp
-// whole passes), also once rendering has stopped, and resuming it continues the accumulation bit for bit.
+// request_partial(): the partial render (core/partial/partial.h) is made between passes (its film is exactly that of
+// spp whole passes), also once rendering has stopped, and resuming it continues the accumulation bit for bit.
 
 namespace {
 

@@ -1,4 +1,4 @@
-// tests/fuzz/fuzz_partial.cpp: libFuzzer entry point over partial-render EXRs (core/frame/partial.h) through merge's
+// tests/fuzz/fuzz_partial.cpp: libFuzzer entry point over partial-render EXRs (core/partial/partial.h) through merge's
 // reader: the EXR header walk and image budget (read_exr_guarded), the identity attributes, sample ranges,
 // channels, the size for the file, the block-wise pixel read and its checks, and the merge's sums. Bad input must
 // end in pv::Error, never a crash or a sanitizer report; a part that is accepted must give a finite film (mean,
@@ -14,9 +14,9 @@
 #include <string>
 
 #include "core/base/error.h"
-#include "core/frame/partial.h"
-#include "core/frame/partial_merge.h"
 #include "core/image/image_io.h"
+#include "core/partial/partial.h"
+#include "core/partial/partial_merge.h"
 
 namespace {
 std::string g_in, g_out;  // per-process files: merge's reader reads paths

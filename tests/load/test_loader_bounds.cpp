@@ -1,7 +1,9 @@
 // test_loader_bounds.cpp: the numeric bounds a scene file states are the bounds it applies (issue 41 item 5).
 #include <gtest/gtest.h>
+
 #include <filesystem>
 #include <string>
+
 #include "core/load/scene_file.h"
 
 namespace pv {

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "core/frame/aov.h"
+#include "core/denoise/aov.h"
 #include "core/render/sky_guide_training.h"
 #include "tests/support/scenes.h"
 

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/frame/partial.h"
+#include "core/partial/partial.h"
 #include "core/render/light_tree.h"
 #include "core/render/lights.h"
 #include "core/sampling/rng.h"
@@ -292,7 +292,7 @@ TEST(LightTree, SamplePdfEqualsThePdfOfTheFoundEmitter) {
 namespace pv {
 namespace {
 
-// The light sampler is part of the settings string partial renders record (core/frame/partial.cpp): a tree render's
+// The light sampler is part of the settings string partial renders record (core/partial/partial.cpp): a tree render's
 // parts say so and read back as such, so a merge refuses to mix them with power parts; a power render's string is the
 // one of before the tree.
 TEST(LightSamplerSettings, RoundTripThroughTheSettingsString) {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/base/error.h"
-#include "core/frame/partial.h"
+#include "core/partial/partial.h"
 #include "core/render/settings.h"
 
 namespace pv {

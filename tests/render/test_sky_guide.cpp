@@ -5,8 +5,8 @@
 // sky samples pass the window far more often than the sky's own.
 #include <gtest/gtest.h>
 
-#include "core/frame/partial.h"
 #include "core/frame/renderer.h"
+#include "core/partial/partial.h"
 #include "core/render/sky_guide_training.h"
 #include "tests/support/chi2.h"
 #include "tests/support/scenes.h"

@@ -1,4 +1,4 @@
-// core/frame/partial_ranges.h: the sample-index ranges of partial renders ("0:16,32:16") and the shards of
+// core/partial/partial_ranges.h: the sample-index ranges of partial renders ("0:16,32:16") and the shards of
 // --shard I/N, parsed strictly (core/base/text.h's decimals) and written back.
 #pragma once
 

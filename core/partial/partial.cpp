@@ -1,7 +1,7 @@
-// core/frame/partial.cpp: the partial-render EXR (OpenEXR UINT channels for the exact double sums) and its
+// core/partial/partial.cpp: the partial-render EXR (OpenEXR UINT channels for the exact double sums) and its
 // validation. The identity's text is in render_identity.cpp, the scene hash in scene_hash.cpp, the sample ranges in
 // partial_ranges.cpp and the merge in partial_merge.cpp.
-#include "core/frame/partial.h"
+#include "core/partial/partial.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -21,7 +21,6 @@
 #include <set>
 
 #include "core/base/error.h"
-#include "core/frame/renderer.h"
 #include "core/image/exr_io.h"
 
 namespace pv {
@@ -222,18 +221,13 @@ uint64_t PartialRender::sample_count() const {
     return n;
 }
 
-PartialRender partial_from_renderer(const Renderer& r, std::vector<SampleRange> ranges) {
+PartialRender make_partial(RenderIdentity id, std::vector<SampleRange> ranges, const Film& film, Metadata info) {
     PartialRender p;
-    p.id.version = partial_version();
-    p.id.scene_hash = scene_hash(r.scene(), r.traceable().materials(), r.traceable().environment_settings());
-    p.id.settings = r.settings_as_rendered().describe();
-    p.id.camera = camera_text(r.camera().desc());
-    p.id.width = r.film().width();
-    p.id.height = r.film().height();
+    p.id = std::move(id);
     normalize_ranges(ranges, "partial render");
     p.ranges = std::move(ranges);
-    p.film = r.film();
-    p.info = render_metadata(r);
+    p.film = film;
+    p.info = std::move(info);
     for (const std::string& k : kReservedKeys) p.info.erase(k);
     p.info.erase("pathview:threads");  // differs between parts and means nothing for the sum
     return p;

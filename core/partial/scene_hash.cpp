@@ -1,5 +1,5 @@
-// core/frame/scene_hash.cpp: the scene identity hash (see scene_hash.h).
-#include "core/frame/scene_hash.h"
+// core/partial/scene_hash.cpp: the scene identity hash (see scene_hash.h).
+#include "core/partial/scene_hash.h"
 
 #include <cinttypes>
 #include <cstdio>

@@ -1,6 +1,6 @@
-// tests/frame/test_denoise.cpp: the NFOR and a-trous denoisers (core/frame/denoise_nfor.h, core/frame/denoise_atrous.h)
-// on synthetic films whose truth is known: two flat regions split by an edge that the albedo feature marks, with
-// uniform noise of mean equal to the truth.
+// tests/denoise/test_denoise.cpp: the NFOR and a-trous denoisers (core/denoise/denoise_nfor.h,
+// core/denoise/denoise_atrous.h) on synthetic films whose truth is known: two flat regions split by an edge that the
+// albedo feature marks, with uniform noise of mean equal to the truth.
 //  * Error: an 11 x 11 regression window averages up to 121 pixels, so on flat regions the relMSE must fall at
 //    least 5x below the noisy mean's (ideal 1/121; 5x leaves room for the edge and the image border).
 //  * Edges: no pixel of the columns either side of the edge moves toward the other side by 10% of the step, and
@@ -15,8 +15,8 @@
 #include <cmath>
 
 #include "core/base/error.h"
-#include "core/frame/denoise_atrous.h"
-#include "core/frame/denoise_nfor.h"
+#include "core/denoise/denoise_atrous.h"
+#include "core/denoise/denoise_nfor.h"
 #include "core/image/metrics.h"
 #include "core/sampling/rng.h"
 

@@ -1,4 +1,4 @@
-// core/frame/partial_merge.h: `pathview merge`: partial renders of one image (same identity, disjoint sample
+// core/partial/partial_merge.h: `pathview merge`: partial renders of one image (same identity, disjoint sample
 // ranges) added into one, in memory or streamed from their files.
 #pragma once
 
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/frame/partial.h"
+#include "core/partial/partial.h"
 
 namespace pv {
 

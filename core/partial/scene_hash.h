@@ -1,4 +1,4 @@
-// core/frame/scene_hash.h: the content hash that tells whether two partial renders (or a part and the scene given
+// core/partial/scene_hash.h: the content hash that tells whether two partial renders (or a part and the scene given
 // to --resume) come from the same scene.
 #pragma once
 

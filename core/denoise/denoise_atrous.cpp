@@ -1,5 +1,5 @@
-// core/frame/denoise_atrous.cpp: edge-avoiding a-trous filtering (see the header).
-#include "core/frame/denoise_atrous.h"
+// core/denoise/denoise_atrous.cpp: edge-avoiding a-trous filtering (see the header).
+#include "core/denoise/denoise_atrous.h"
 
 #include <algorithm>
 #include <cmath>

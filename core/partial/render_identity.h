@@ -1,4 +1,4 @@
-// core/frame/render_identity.h: what must agree for partial renders to merge, as text: the version, the settings
+// core/partial/render_identity.h: what must agree for partial renders to merge, as text: the version, the settings
 // (RenderSettings::describe(), read back through the table of core/render/settings.h) and the camera (exact flags).
 #pragma once
 
@@ -19,7 +19,7 @@ struct RenderIdentity {
     int width = 0, height = 0;
 };
 
-// The partial file format's version (pathview:partial, core/frame/partial.h).
+// The partial file format's version (pathview:partial, core/partial/partial.h).
 inline constexpr char kPartialFormat[] = "1";
 // "pathview 0.1, partial format 1": written to and required of every partial file.
 std::string partial_version();

@@ -1,5 +1,5 @@
-// core/frame/render_identity.cpp: the identity text of partial renders (see render_identity.h).
-#include "core/frame/render_identity.h"
+// core/partial/render_identity.cpp: the identity text of partial renders (see render_identity.h).
+#include "core/partial/render_identity.h"
 
 #include <cstdio>
 

@@ -1,5 +1,5 @@
-// core/frame/render_plan.cpp: `pathview render`'s request checked and planned (see render_plan.h).
-#include "core/frame/render_plan.h"
+// app/render_plan.cpp: `pathview render`'s request checked and planned (see render_plan.h).
+#include "app/render_plan.h"
 
 #include "core/base/error.h"
 

@@ -1,4 +1,4 @@
-// core/frame/render_plan.h: what `pathview render` asked for, checked and turned into a plan before anything is
+// app/render_plan.h: what `pathview render` asked for, checked and turned into a plan before anything is
 // loaded: the sample count or time, the partial render's sample indices (--samples, --shard, --resume), the part to
 // continue, and the adaptive sampling that applies. Combinations that cannot work are refused here with one line.
 #pragma once
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/frame/adaptive.h"
-#include "core/frame/partial.h"
+#include "core/partial/partial.h"
 
 namespace pv {
 

@@ -1,19 +1,19 @@
-// core/frame/denoise_nfor.h: the final-quality denoiser, after Bitterli et al. 2016, "Nonlinearly Weighted First-order
-// Regression for Denoising Monte Carlo Renderings" (NFOR). Each pixel's colour is a weighted first-order
+// core/denoise/denoise_nfor.h: the final-quality denoiser, after Bitterli et al. 2016, "Nonlinearly Weighted
+// First-order Regression for Denoising Monte Carlo Renderings" (NFOR). Each pixel's colour is a weighted first-order
 // regression on the first-hit features (albedo, shading normal, depth) and the screen offset over a window. Linear RGB
 // in, linear RGB out.
 #pragma once
 
 #include <atomic>
 
-#include "core/frame/aov.h"
+#include "core/denoise/aov.h"
 #include "core/image/film.h"
 
 // Cross filtering: the two half buffers (even/odd samples, independent: core/sampling/sampler.h) are filtered
 // crosswise: half A is regressed with weights computed from half B's colours and vice versa, so a weight never sees
 // the noise it averages; the centre pixel's own guide colour is taken from its eight neighbours, so the filtered pixel
 // does not see the other half's noise there either. Candidates: three colour bandwidths, and the a-trous filter
-// (core/frame/denoise_atrous.h) with four edge stops (from the viewer's to the normals' only), each half guided by
+// (core/denoise/denoise_atrous.h) with four edge stops (from the viewer's to the normals' only), each half guided by
 // itself. Per pixel the candidate whose filtered halves are closest to the OTHER half (an unbiased MSE estimate once
 // that half's variance is subtracted; docs/denoise.md), after smoothing the error maps over 17 x 17, is kept: the mean
 // of its filtered halves (regression) or its filter of the full mean (a-trous).

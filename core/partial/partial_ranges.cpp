@@ -1,5 +1,5 @@
-// core/frame/partial_ranges.cpp: sample ranges and shards (see partial_ranges.h).
-#include "core/frame/partial_ranges.h"
+// core/partial/partial_ranges.cpp: sample ranges and shards (see partial_ranges.h).
+#include "core/partial/partial_ranges.h"
 
 #include <algorithm>
 

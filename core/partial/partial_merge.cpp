@@ -1,5 +1,5 @@
-// core/frame/partial_merge.cpp: merging partial renders (see partial_merge.h).
-#include "core/frame/partial_merge.h"
+// core/partial/partial_merge.cpp: merging partial renders (see partial_merge.h).
+#include "core/partial/partial_merge.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -8,7 +8,7 @@
 #include <new>
 
 #include "core/base/error.h"
-#include "core/frame/scene_hash.h"
+#include "core/partial/scene_hash.h"
 
 namespace pv {
 namespace {

@@ -1,4 +1,4 @@
-// core/frame/partial.h: partial renders. A render split by sample index: each process renders the indices
+// core/partial/partial.h: partial renders. A render split by sample index: each process renders the indices
 // [start, start + count) and writes a partial EXR; `pathview merge` adds the parts' per-pixel sums, and `pathview
 // render --resume` continues one. Samples depend only on (pixel, index, seed), so the merged sums are exact.
 #pragma once
@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "core/base/text.h"
-#include "core/frame/partial_ranges.h"
-#include "core/frame/render_identity.h"
-#include "core/frame/scene_hash.h"
 #include "core/image/film.h"
 #include "core/image/image_io.h"
+#include "core/partial/partial_ranges.h"
+#include "core/partial/render_identity.h"
+#include "core/partial/scene_hash.h"
 #include "core/render/integrator.h"
 #include "core/scene/environment.h"
 
@@ -37,8 +37,6 @@
 
 namespace pv {
 
-class Renderer;
-
 struct PartialRender {
     RenderIdentity id;
     std::vector<SampleRange> ranges;  // sorted, disjoint, touching ones joined (normalize_ranges)
@@ -48,8 +46,10 @@ struct PartialRender {
     uint64_t sample_count() const;  // sum of the ranges' counts
 };
 
-// The renderer's film and identity as a partial render of `ranges`, with render_metadata() as info.
-PartialRender partial_from_renderer(const Renderer& renderer, std::vector<SampleRange> ranges);
+// A partial render of `ranges` (normalised) with identity `id`, a copy of `film` and `info` without the keys the
+// format reserves and without pathview:threads (differs between parts and means nothing for the sum). The renderer's
+// own: partial_from_renderer (core/frame/renderer_partial.h).
+PartialRender make_partial(RenderIdentity id, std::vector<SampleRange> ranges, const Film& film, Metadata info);
 
 // Writes a partial EXR (temporary file, then rename). Throws pv::Error naming `path`.
 void write_partial(const std::string& path, const PartialRender& part);

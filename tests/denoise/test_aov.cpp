@@ -1,4 +1,4 @@
-// tests/frame/test_aov.cpp: AOVs (core/frame/aov.h). First-hit features against geometry known in closed form (the
+// tests/denoise/test_aov.cpp: AOVs (core/denoise/aov.h). First-hit features against geometry known in closed form (the
 // Cornell box's back wall; a mirror and a glass interface in front of coloured walls, whose Fresnel split is checked
 // against a binomial bound), the film's statistics layers against hand-computed sums, and the multi-layer EXR
 // round trip with its error for a mis-sized layer.
@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "core/base/error.h"
-#include "core/frame/aov.h"
+#include "core/denoise/aov.h"
 #include "tests/support/scenes.h"
 
 namespace pv {

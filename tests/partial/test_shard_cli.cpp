@@ -1,4 +1,4 @@
-// tests/frame/test_shard_cli.cpp: the partial-render commands end to end: `pathview render --samples START:COUNT`,
+// tests/partial/test_shard_cli.cpp: the partial-render commands end to end: `pathview render --samples START:COUNT`,
 // `pathview merge` and `pathview render --resume` against one `pathview render --spp N`; bad parts give one line
 // naming the file, a non-zero exit, and nothing (not even a temporary) at the output path.
 #include <gtest/gtest.h>
@@ -7,8 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "core/frame/partial.h"
 #include "core/image/image_io.h"
+#include "core/partial/partial.h"
 #include "core/render/settings.h"
 #include "tests/support/cli.h"
 #include "tests/support/temp_dir.h"

@@ -1,5 +1,5 @@
-// core/frame/aov.cpp: the first-hit feature pass, the film's statistics as layers, and the multi-layer EXR writer.
-#include "core/frame/aov.h"
+// core/denoise/aov.cpp: the first-hit feature pass, the film's statistics as layers, and the multi-layer EXR writer.
+#include "core/denoise/aov.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>

@@ -1,4 +1,4 @@
-// core/frame/aov.h: arbitrary output variables (AOVs) beside the RGB mean: first-hit features for denoisers (albedo,
+// core/denoise/aov.h: arbitrary output variables (AOVs) beside the RGB mean: first-hit features for denoisers (albedo,
 // shading normal, depth) from a separate feature pass, so trace_path and the render loop without AOVs are
 // untouched, and the film's per-pixel statistics (sample count, variance of the mean, the even/odd half means);
 // plus a multi-layer EXR writer for them.

@@ -1,11 +1,11 @@
-// core/frame/denoise_atrous.h: the interactive denoiser: an edge-avoiding a-trous wavelet filter (Dammertz et al. 2010)
-// with SVGF's weights (Schied et al. 2017). Linear RGB in and out; no state between calls but reused memory (the
+// core/denoise/denoise_atrous.h: the interactive denoiser: an edge-avoiding a-trous wavelet filter (Dammertz et al.
+// 2010) with SVGF's weights (Schied et al. 2017). Linear RGB in and out; no state between calls but reused memory (the
 // accumulation is never touched). The filter and how it is made fast: below the includes.
 #pragma once
 
 #include <vector>
 
-#include "core/frame/aov.h"
+#include "core/denoise/aov.h"
 #include "core/image/film.h"
 
 // The filter: four passes of a 3x3 B-spline kernel (1/4, 1/2, 1/4) at strides 1, 2, 4, 8 (a 31x31 footprint),
@@ -31,7 +31,7 @@ public:
     // sigma_colour: the colour (luminance) difference, in standard deviations of the noise, at which a
     // neighbour's weight falls to about 1/e; sigma_depth: the same for the depth difference relative to the pixel's
     // depth, per unit of the pass's stride. The viewer's filter keeps the defaults; the final denoiser also tries
-    // wider ones (core/frame/denoise_nfor.h).
+    // wider ones (core/denoise/denoise_nfor.h).
     explicit AtrousDenoiser(float sigma_colour = 4.f, float sigma_depth = 0.02f)
         : m_sigma_colour(sigma_colour), m_sigma_depth(sigma_depth) {}
 

@@ -1,13 +1,13 @@
-// core/frame/denoise_nfor.cpp: cross-filtered first-order regression with per-pixel bandwidth selection (see the
+// core/denoise/denoise_nfor.cpp: cross-filtered first-order regression with per-pixel bandwidth selection (see the
 // header).
-#include "core/frame/denoise_nfor.h"
+#include "core/denoise/denoise_nfor.h"
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <chrono>
 
 #include "core/base/parallel.h"
-#include "core/frame/denoise_atrous.h"
+#include "core/denoise/denoise_atrous.h"
 
 namespace pv {
 namespace {
@@ -276,7 +276,7 @@ std::vector<float> error_map(int w, int h, const std::vector<vec3>& filtered, co
     return e;
 }
 
-// The a-trous filter (core/frame/denoise_atrous.h) of each half, guided by that half's own colours and variance;
+// The a-trous filter (core/denoise/denoise_atrous.h) of each half, guided by that half's own colours and variance;
 // `atrous` has the features set.
 void atrous_halves(const Planes& p, const FeatureImage& features, AtrousDenoiser& atrous, std::vector<vec3>& fa,
                    std::vector<vec3>& fb) {

@@ -1,4 +1,4 @@
-// tests/frame/test_shard.cpp: partial renders (core/frame/partial.h). Four shards of a 64-spp render merged through
+// tests/partial/test_shard.cpp: partial renders (core/partial/partial.h). Four shards of a 64-spp render merged through
 // their files equal the single render (the stored double sums are exact; only the order of the double additions
 // differs, so the sums agree within the recursive-summation bound and the float means bit for bit or within
 // one float ulp); a resumed part equals the single render bit for bit; the file round-trips exactly; bad parts
@@ -13,10 +13,11 @@
 #include <functional>
 
 #include "core/base/error.h"
-#include "core/frame/partial.h"
-#include "core/frame/partial_merge.h"
 #include "core/frame/renderer.h"
+#include "core/frame/renderer_partial.h"
 #include "core/image/image_io.h"
+#include "core/partial/partial.h"
+#include "core/partial/partial_merge.h"
 #include "tests/support/scenes.h"
 #include "tests/support/temp_dir.h"
 

@@ -1,4 +1,4 @@
-// tests/frame/test_untrusted_partial.cpp: partial renders from strangers (issue 26). `pathview merge` and `render
+// tests/partial/test_untrusted_partial.cpp: partial renders from strangers (issue 26). `pathview merge` and `render
 // --resume` read partial EXRs from other machines and old runs: 64-bit sample ranges that never wrap, strict range
 // and shard text, finite flags, every output checked before anything is written, refused combinations, short quotes
 // of hostile attribute strings, and the merge's memory budget. Each case runs the program: exit code, one line
@@ -14,9 +14,9 @@
 #include <fstream>
 
 #include "core/base/error.h"
-#include "core/frame/partial.h"
-#include "core/frame/partial_merge.h"
 #include "core/image/image_io.h"
+#include "core/partial/partial.h"
+#include "core/partial/partial_merge.h"
 #include "core/scene/texture.h"
 #include "tests/support/cli.h"
 #include "tests/support/temp_dir.h"
