@@ -143,6 +143,11 @@ uint64_t scene_hash(const Scene& scene, const std::vector<Material>& materials, 
     h.value(env.sun_direction);
     h.value(env.sun_angular_radius_deg);
     h.value(env.sun_irradiance);
+    if (!scene.fog.empty()) {  // the global medium only when present: scenes without one hash as before
+        h.value(scene.fog.sigma_a);
+        h.value(scene.fog.sigma_s);
+        h.value(scene.fog.g);
+    }
     return h.get();
 }
 

@@ -42,7 +42,9 @@ void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings,
     // prefetched) is still on its way from memory. The Sobol sampler draws a dimension as a function of it alone, so
     // drawing u_light for a vertex that then takes no light sample (a delta BSDF) changes nothing else; the
     // independent sampler draws in stream order and keeps the draw where it was.
-    m_early_sky = m_nee && !m_select_draw && sampler.kind() == SamplerKind::Sobol;
+    m_fog = !ts.scene().fog.empty();
+    m_in_solid = false;
+    m_early_sky = m_nee && !m_select_draw && sampler.kind() == SamplerKind::Sobol && !m_fog;
     m_ray = ray;
     m_L = vec3(0.f);
     m_beta = vec3(1.f);
@@ -90,7 +92,12 @@ PV_STAGE PathWalker::Next PathWalker::trace() {
     const TraceableScene& ts = *m_ts;
     Hit& hit = m_hit;
     ++m_counters.rays;
-    if (!ts.intersect(m_ray, hit)) {
+    const bool found = ts.intersect(m_ray, hit);
+    if (m_fog && !m_in_solid) [[unlikely]] {
+        Next next;
+        if (fog_segment(found, found ? hit.t : std::numeric_limits<float>::infinity(), next)) return next;
+    }
+    if (!found) {
         escape();
         return Next::End;
     }
@@ -277,6 +284,8 @@ PV_STAGE void PathWalker::next_event(Vertex& v, const Draws& d) {
         if (visible && v.per_hit) f = eval(v.shade(), v.wo, wi);
     }
     if (!visible || is_black(f)) return;
+    if (m_fog && !m_in_solid) [[unlikely]]
+        f *= fog_transmittance(ls.dist);
     // The power heuristic's weight over the light pdf, w / p_l = p_l / (p_l^2 + p_b^2): one division
     // (power_heuristic's guards: an infinite p_l weighs 1 / p_l = 0).
     const float pl = ls.pdf;
@@ -304,7 +313,8 @@ PV_STAGE void PathWalker::punctual_lights(Vertex& v) {
         if (is_black(f)) continue;
         ++m_counters.shadow_rays;
         if (m_ts->occluded(shadow_ray(v.origin_toward(ls.wi), ls))) continue;
-        m_L += m_beta * f * std::fabs(wi.z) * ls.le;
+        const vec3 tr = m_fog && !m_in_solid ? fog_transmittance(ls.dist) : vec3(1.f);
+        m_L += m_beta * f * std::fabs(wi.z) * ls.le * tr;
     }
 }
 
@@ -334,6 +344,7 @@ PV_STAGE PathWalker::Next PathWalker::continue_path(Vertex& v, const Draws& d) {
             m_absorbing = v.wo.z > 0.f && !is_black(mr->sigma);
             m_sigma = mr->sigma;
         }
+        m_in_solid = v.wo.z > 0.f;  // entering (wo outside) or leaving a transmissive solid: the fog's rule
     }
     if (!is_finite(m_beta) || is_black(m_beta)) return Next::End;
     m_specular_bounce = bs->is_delta;
@@ -365,6 +376,89 @@ PV_STAGE bool PathWalker::roulette(uint32_t dim) {
     if (m_sampler->get1d_at(dim + 4) >= p) return false;
     m_beta /= p;
     return true;
+}
+
+// The global medium along the segment the path has just traced (to its hit, or unbounded): a free-flight distance
+// drawn against it. True when the segment ends in the medium (next: the scattering event's outcome) or the path ends
+// there; false when the segment is passed (the throughput takes its transmittance weight) and the hit, or the escape,
+// is handled as without a medium.
+PV_STAGE bool PathWalker::fog_segment(bool hit, float t_hit, Next& next) {
+    const HomogeneousMedium& fog = m_ts->scene().fog;
+    const uint32_t dim = m_sampler->reserve(kMediumDims);
+    const float u_channel = m_sampler->get1d_at(dim);
+    const float u_dist = m_sampler->get1d_at(dim + 1);
+    const DistanceSample ds =
+        sample_distance(fog, m_beta, hit ? t_hit : std::numeric_limits<float>::infinity(), u_channel, u_dist);
+    m_beta *= ds.weight;
+    if (!is_finite(m_beta) || is_black(m_beta)) {
+        next = Next::End;
+        return true;
+    }
+    if (!ds.scattered) return false;
+    next = medium_scatter(m_ray.o + ds.t * m_ray.d);
+    if (next == Next::End) return true;
+    next = Next::Wait;  // the next segment is traced at the next step (m_stage is Trace)
+    return true;
+}
+
+// The fog's transmittance over a shadow ray of length dist (infinite toward the environment).
+inline vec3 PathWalker::fog_transmittance(float dist) const {
+    const HomogeneousMedium& fog = m_ts->scene().fog;
+    vec3 tr(0.f);
+    for (int c = 0; c < 3; ++c) {
+        const float st = fog.sigma_t()[c];
+        tr[c] = st > 0.f ? (std::isinf(dist) ? 0.f : std::exp(-st * dist)) : 1.f;
+    }
+    return tr;
+}
+
+// A scattering event at p in the global medium: next-event estimation (a light sample, its shadow ray and the fog's
+// transmittance along it, weighted against phase sampling by the power heuristic), the punctual lights, then the
+// phase function's sample (weight 1: it is sampled exactly), roulette and the next ray from p.
+PV_STAGE PathWalker::Next PathWalker::medium_scatter(vec3 p) {
+    const TraceableScene& ts = *m_ts;
+    const HomogeneousMedium& fog = ts.scene().fog;
+    ++m_counters.vertices;
+    if (m_depth >= m_settings->max_depth) return Next::End;
+    Sampler& sampler = *m_sampler;
+    const uint32_t dim = sampler.reserve(kBounceDims);
+    const vec3 d = m_ray.d;
+    // Next-event estimation from the medium point (no normal: the light sampler is given a zero one).
+    if (m_nee) {
+        const float u_select = m_select_draw ? sampler.get1d_at(dim) : 0.f;
+        const vec2 u_light = sampler.get2d_at(dim + 1);
+        LightSample ls;
+        if (ts.sample_light(p, vec3(0.f), u_select, u_light, ls, true) && !is_black(ls.le)) {
+            const float ph = hg_phase(glm::dot(d, ls.wi), fog.g);
+            ++m_counters.shadow_rays;
+            if (ph > 0.f && !ts.occluded(shadow_ray(p, ls))) {
+                const float pl = ls.pdf;
+                const float w = m_mis ? power_heuristic(pl, ph) : 1.f;
+                m_L += m_beta * (ph * w / pl) * ls.le * fog_transmittance(ls.dist);
+            }
+        }
+    }
+    if (m_settings->light_sampling)
+        for (const PunctualLight& light : ts.scene().punctual_lights) {
+            LightSample ls;
+            if (!sample_punctual(light, p, ls)) continue;
+            ++m_counters.shadow_rays;
+            if (ts.occluded(shadow_ray(p, ls))) continue;
+            m_L += m_beta * hg_phase(glm::dot(d, ls.wi), fog.g) * ls.le * fog_transmittance(ls.dist);
+        }
+    // Phase sampling: the next direction.
+    const vec3 wi = sample_hg(d, fog.g, sampler.get2d_at(dim + 3));
+    m_specular_bounce = false;
+    m_prev_pdf = hg_phase(glm::dot(d, wi), fog.g);
+    m_prev_p = p;
+    m_prev_n = vec3(0.f);
+    if (!roulette(dim)) return Next::End;
+    m_ray.o = p;
+    m_ray.d = wi;
+    m_ray.tmax = std::numeric_limits<float>::infinity();
+    ++m_depth;
+    m_stage = Stage::Trace;
+    return Next::Go;
 }
 
 #undef PV_STAGE

@@ -35,6 +35,10 @@ struct PathCounters {
 // meaning in every sample of a pixel; a draw that a vertex does not need is skipped, not shifted.
 constexpr uint32_t kCameraDims = 2;
 constexpr uint32_t kBounceDims = 5;
+// With a global medium, each segment outside solids first draws kMediumDims (distance channel, distance); a
+// scattering event in the medium then takes a bounce block like a surface vertex (light selection, light point,
+// unused, phase direction, roulette). Scenes without a medium draw none.
+constexpr uint32_t kMediumDims = 2;
 
 // Russian roulette spares paths whose throughput max(beta) x eta^2 is at least this (PathWalker::roulette; the sky
 // guide's training walks its paths with a PathWalker).
@@ -112,6 +116,11 @@ private:
     void next_event(Vertex& v, const Draws& d);
     void punctual_lights(Vertex& v);
     Next continue_path(Vertex& v, const Draws& d);
+    // The global medium (Scene::fog) along the segment to the hit (or to infinity): its free-flight distance, and a
+    // scattering event there (next-event estimation through the fog, the phase function's sample) when one is drawn.
+    bool fog_segment(bool hit, float t_hit, Next& next);
+    Next medium_scatter(vec3 p);
+    vec3 fog_transmittance(float dist) const;
     bool roulette(uint32_t dim);
     bool finish() {
         m_counters.paths = 1;
@@ -136,6 +145,9 @@ private:
     // Beer-Lambert coefficient, applied to the segment to the next hit.
     bool m_absorbing = false;
     vec3 m_sigma{0.f};
+    // The global medium: present in the scene (m_fog), and the path inside a transmissive solid (where it is not).
+    bool m_fog = false;
+    bool m_in_solid = false;
     int m_depth = 0;
     PathCounters m_counters;
     // The vertex in flight, from one stage to the next.

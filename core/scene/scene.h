@@ -10,6 +10,7 @@
 
 #include "core/base/math.h"
 #include "core/scene/bsdf.h"
+#include "core/scene/medium.h"
 #include "core/scene/texture.h"
 
 namespace pv {
@@ -112,6 +113,9 @@ struct Scene {
     std::vector<Portal> portals;
     // glTF KHR_lights_punctual lights, in world space (empty for OBJ scenes).
     std::vector<PunctualLight> punctual_lights;
+    // The global medium (fog) filling every place outside closed transmissive solids, the camera inside it
+    // (core/scene/medium.h); empty: none. Inside a solid its own Beer-Lambert absorption applies instead.
+    HomogeneousMedium fog;
     bool has_camera = false;
     // Named camera views saved with the scene file ("bookmarks" in the JSON).
     struct Bookmark {
