@@ -49,7 +49,10 @@ TEST(Medium, DistanceSamplingMatchesTheChannelAveragedPdf) {
     std::vector<double> counts(kBins + 1, 0.0);
     Pcg32 rng(7, 1);
     for (int i = 0; i < kSamples; ++i) {
-        const DistanceSample s = sample_distance(kMedium, kBeta, kLength, rng.next_float(), rng.next_float());
+        // The two numbers are drawn in a stated order: as call arguments their order would be the compiler's.
+        const float u_channel = rng.next_float();
+        const float u_dist = rng.next_float();
+        const DistanceSample s = sample_distance(kMedium, kBeta, kLength, u_channel, u_dist);
         if (!s.scattered) {
             EXPECT_EQ(s.t, kLength);
             counts[kBins] += 1;
@@ -81,7 +84,10 @@ TEST(Medium, SlabTransmittanceAndScatteringAreUnbiased) {
     double sum_pass[3] = {}, sq_pass[3] = {}, sum_scat[3] = {}, sq_scat[3] = {};
     Pcg32 rng(11, 1);
     for (int i = 0; i < kSamples; ++i) {
-        const DistanceSample s = sample_distance(kMedium, kBeta, kLength, rng.next_float(), rng.next_float());
+        // The two numbers are drawn in a stated order: as call arguments their order would be the compiler's.
+        const float u_channel = rng.next_float();
+        const float u_dist = rng.next_float();
+        const DistanceSample s = sample_distance(kMedium, kBeta, kLength, u_channel, u_dist);
         for (int c = 0; c < 3; ++c) {
             const double w = s.weight[c];
             (s.scattered ? sum_scat : sum_pass)[c] += w;
