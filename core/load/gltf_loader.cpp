@@ -17,6 +17,7 @@
 #include "core/base/error.h"
 #include "core/base/file_io.h"
 #include "core/load/gltf_internal.h"
+#include "core/load/json_bounds.h"
 
 namespace pv {
 namespace gltf_detail {
@@ -125,9 +126,11 @@ void Loader::check_extensions() {
 
 namespace {
 
-// The checks before tinygltf: required extensions, each buffer's source and declared size (a missing file, a size
-// that the file, data URI or BIN chunk does not hold), with JSON paths.
+// The checks before tinygltf: the JSON's nesting depth and element counts (json_bounds.h), required extensions, each
+// buffer's source and declared size (a missing file, a size that the file, data URI or BIN chunk does not hold), with
+// JSON paths.
 void precheck(const std::string_view json_text, const std::string& file, const std::string& dir, const Glb* glb) {
+    check_json_bounds(json_text, file, gltf_json_bounds());  // before any parser recurses or allocates
     const json j = json::parse(json_text.begin(), json_text.end(), nullptr, false);
     if (j.is_discarded()) throw Error(file + ": invalid JSON");
     if (!j.is_object()) throw Error(file + ": /: expected a JSON object");
