@@ -141,6 +141,13 @@ void precheck(const std::string_view json_text, const std::string& file, const s
                 throw Error(file + ": /extensionsRequired/" + str(i) + ": the file requires extension '" +
                             req[i].get<std::string>() + "', which pathview does not support");
     }
+    if (j.contains("scene")) {  // tinygltf 2.7 renders scene 0 for any index it cannot use
+        const json& s = j["scene"];
+        const size_t scenes = j.contains("scenes") && j["scenes"].is_array() ? j["scenes"].size() : 0;
+        if (!s.is_number_unsigned() || s.get<uint64_t>() >= scenes)
+            throw Error(file + ": /scene: " + s.dump().substr(0, 40) +
+                        " is not a scene index; expected an integer in [0, " + str(scenes) + ")");
+    }
     if (!j.contains("buffers")) return;
     const json& buffers = j["buffers"];
     if (!buffers.is_array()) throw Error(file + ": /buffers: expected an array");
@@ -151,6 +158,8 @@ void precheck(const std::string_view json_text, const std::string& file, const s
         if (!b.contains("byteLength") || !b["byteLength"].is_number_unsigned())
             throw Error(file + ": " + at + "/byteLength: expected a non-negative integer");
         const uint64_t declared = b["byteLength"].get<uint64_t>();
+        if (declared == 0)  // (tinygltf 2.7 then indexes an empty vector: a raw vector::_M_range_check message)
+            throw Error(file + ": " + at + "/byteLength: 0; a buffer holds at least one byte");
         auto too_big = [&](const std::string& where, uint64_t has) {
             throw Error(file + ": " + at + "/byteLength: declares " + str(declared) + " bytes, but " + where +
                         " holds " + str(has));

@@ -7,6 +7,7 @@
 #include "core/base/error.h"
 #include "core/load/gltf_loader.h"
 #include "core/load/scene_file.h"
+#include "core/scene/bsdf_pbr.h"
 
 namespace pv {
 // The scene file documents "ior" in [0.001, 1000]: both ends are accepted (0.001 as a double is below the float
@@ -119,5 +120,76 @@ TEST(LoaderBounds, DeeplyNestedSceneFileIsRefusedInOneLine) {
     const std::string e = refusal([&] { load_scene_json_text(json, dir + "/deep.json"); });
     EXPECT_EQ(e.rfind(dir + "/deep.json: /extras/0/0/", 0), 0u) << e.substr(0, 300);
     EXPECT_NE(e.find("nested more than 64 levels deep"), std::string::npos) << e.substr(0, 300);
+}
+
+namespace {
+// One triangle (positions (0,0,0), (1,0,0), (0,1,0) as a data URI) in scene 0, with `extra` members in the root.
+std::string triangle_gltf(const std::string& extra) {
+    return R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "buffers": [{"byteLength": 36,
+                     "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}])" +
+           extra + "}";
+}
+}  // namespace
+
+// Issue 41 item 5: tinygltf 2.7 silently rendered scene 0 for a "scene" it could not use.
+TEST(LoaderBounds, GltfSceneIndexOutOfRangeOrNotAnIntegerIsRefused) {
+    EXPECT_EQ(refusal([&] { load_gltf_from_memory(triangle_gltf(R"(, "scene": 0, "materials": [{}])"), "s.gltf"); }),
+              "");
+    for (const char* index : {"1", "-1", "0.5", "\"0\"", "null", "4294967296"}) {
+        const std::string e = refusal([&] {
+            load_gltf_from_memory(triangle_gltf(std::string(R"(, "materials": [{}], "scene": )") + index), "s.gltf");
+        });
+        EXPECT_EQ(e.rfind("s.gltf: /scene: ", 0), 0u) << index << ": " << e;
+        EXPECT_NE(e.find("expected an integer in [0, 1)"), std::string::npos) << index << ": " << e;
+    }
+}
+
+// Issue 41 item 5: a .glb whose first buffer declares 0 bytes got tinygltf's raw "vector::_M_range_check" message.
+TEST(LoaderBounds, GlbBufferOfZeroBytesIsRefusedInOneLine) {
+    std::string json = R"({"asset": {"version": "2.0"}, "buffers": [{"byteLength": 0}]})";
+    json.resize((json.size() + 3) / 4 * 4, ' ');
+    std::string glb = "glTF";
+    auto u32 = [&glb](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+    u32(2);
+    u32(uint32_t(12 + 8 + json.size() + 8 + 12));
+    u32(uint32_t(json.size()));
+    u32(0x4E4F534Au);
+    glb += json;
+    u32(12);
+    u32(0x004E4942u);
+    glb += std::string(12, '\0');
+    EXPECT_EQ(refusal([&] { load_gltf_from_memory(glb, "zero.glb"); }),
+              "zero.glb: /buffers/0/byteLength: 0; a buffer holds at least one byte");
+}
+
+// Issue 41 item 5: KHR_materials_ior's "ior": 1e8 made every sample on the surface NaN (dropped: black, no word);
+// it is clamped to the bound scene files apply (1000), with a warning naming the value's JSON pointer.
+TEST(LoaderBounds, GltfIorAboveTheSceneFileBoundIsClampedWithAWarning) {
+    for (const char* ior : {"1e8", "1e50", "1000.5"}) {
+        const Scene s = load_gltf_from_memory(
+            triangle_gltf(std::string(R"(, "extensionsUsed": ["KHR_materials_ior"], "materials": [{"extensions":
+                {"KHR_materials_ior": {"ior": )") +
+                          ior + "}}}]"),
+            "ior.gltf");
+        ASSERT_EQ(s.materials.size(), 1u);
+        const auto* mr = std::get_if<MetallicRoughness>(&s.materials[0].bsdf);
+        ASSERT_NE(mr, nullptr);
+        EXPECT_EQ(mr->ior, 1000.f) << ior;
+        ASSERT_EQ(s.warnings.size(), 1u) << ior;
+        EXPECT_EQ(s.warnings[0].rfind("ior.gltf: /materials/0/extensions/KHR_materials_ior/ior: ", 0), 0u)
+            << s.warnings[0];
+        EXPECT_NE(s.warnings[0].find("clamped to 1000"), std::string::npos) << s.warnings[0];
+    }
+    const Scene s =
+        load_gltf_from_memory(triangle_gltf(R"(, "extensionsUsed": ["KHR_materials_ior"], "materials": [{"extensions":
+            {"KHR_materials_ior": {"ior": 1000}}}])"),
+                              "ior.gltf");
+    EXPECT_EQ(std::get<MetallicRoughness>(s.materials[0].bsdf).ior, 1000.f);
+    EXPECT_TRUE(s.warnings.empty());
 }
 }  // namespace pv
