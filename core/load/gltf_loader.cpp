@@ -5,6 +5,8 @@
 // materials and cameras: core/load/gltf_materials.cpp.
 #include "core/load/gltf_loader.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
@@ -18,6 +20,7 @@
 #include "core/base/file_io.h"
 #include "core/load/gltf_internal.h"
 #include "core/load/json_bounds.h"
+#include "core/scene/texture_decode.h"
 
 namespace pv {
 namespace gltf_detail {
@@ -95,9 +98,19 @@ Glb parse_glb(const std::string& bytes, const std::string& file) {
     return g;
 }
 
-// tinygltf's file system: regular files of bounded size only, no path expansion.
+// A file's identity (device, inode): how a path tinygltf opens is matched with a buffer precheck() saw.
+std::pair<uint64_t, uint64_t> file_id(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) return {0, 0};
+    return {uint64_t(st.st_dev), uint64_t(st.st_ino)};
+}
+
+// tinygltf's file system: regular files of bounded size only, no path expansion. A buffer's file is read to its
+// declared byteLength at most (precheck() checked the two are equal), straight into tinygltf's vector (one copy in
+// memory); any other file is an image, read only as far as its header says it needs (read_image_file).
 struct FileAccess {
-    std::string error;  // the last failure, for the message
+    std::string error;                                          // the last failure, for the message
+    std::map<std::pair<uint64_t, uint64_t>, uint64_t> buffers;  // file_id -> declared byteLength
 };
 bool fs_exists(const std::string& path, void*) {
     std::error_code ec;
@@ -106,8 +119,14 @@ bool fs_exists(const std::string& path, void*) {
 std::string fs_expand(const std::string& path, void*) { return path; }
 bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
     try {
-        const std::string bytes = read_regular_file(path, kMaxGltfBytes, "a glTF buffer or image");
-        out->assign(bytes.begin(), bytes.end());
+        FileAccess& access = *static_cast<FileAccess*>(user);
+        const auto buffer = access.buffers.find(file_id(path));
+        if (buffer != access.buffers.end()) {
+            *out = read_regular_file_bytes(path, buffer->second, "a glTF buffer (.bin)");
+        } else {
+            const std::string bytes = read_image_file(path, "a glTF image");
+            out->assign(bytes.begin(), bytes.end());
+        }
         return true;
     } catch (const Error& e) {
         if (err) *err += e.what();
@@ -129,7 +148,8 @@ namespace {
 // The checks before tinygltf: the JSON's nesting depth and element counts (json_bounds.h), required extensions, each
 // buffer's source and declared size (a missing file, a size that the file, data URI or BIN chunk does not hold), with
 // JSON paths.
-void precheck(const std::string_view json_text, const std::string& file, const std::string& dir, const Glb* glb) {
+void precheck(const std::string_view json_text, const std::string& file, const std::string& dir, const Glb* glb,
+              FileAccess& access) {
     check_json_bounds(json_text, file, gltf_json_bounds());  // before any parser recurses or allocates
     const json j = json::parse(json_text.begin(), json_text.end(), nullptr, false);
     if (j.is_discarded()) throw Error(file + ": invalid JSON");
@@ -186,6 +206,7 @@ void precheck(const std::string_view json_text, const std::string& file, const s
         if (size != declared)
             throw Error(file + ": " + at + "/byteLength: declares " + str(declared) + " bytes, but '" + uri + "' has " +
                         str(size));
+        access.buffers[file_id(path)] = declared;
     }
 }
 
@@ -253,13 +274,13 @@ Scene load(const std::string& bytes, const std::string& file) {
     if (bytes.size() > kMaxGltfBytes) throw Error(file + ": larger than 2 GiB; expected a glTF file");
     Glb glb;
     if (binary) glb = parse_glb(bytes, file);
-    precheck(binary ? glb.json_text : std::string_view(bytes), file, dir, binary ? &glb : nullptr);
+    FileAccess access;
+    precheck(binary ? glb.json_text : std::string_view(bytes), file, dir, binary ? &glb : nullptr, access);
 
     Scene scene;
     scene.source = file;
     Loader L(file, scene);
     tinygltf::TinyGLTF gltf;
-    FileAccess access;
     gltf.SetFsCallbacks(tinygltf::FsCallbacks{fs_exists, fs_expand, fs_read, fs_write, &access});
     ImageContext images{&L};
     gltf.SetImageLoader(decode_image, &images);

@@ -1,6 +1,8 @@
 // test_loader_bounds.cpp: the numeric bounds a scene file states are the bounds it applies (issue 41 item 5).
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
+#include <cstring>
 #include <filesystem>
 #include <string>
 
@@ -8,6 +10,8 @@
 #include "core/load/gltf_loader.h"
 #include "core/load/scene_file.h"
 #include "core/scene/bsdf_pbr.h"
+#include "core/scene/texture.h"
+#include "tests/support/temp_dir.h"
 
 namespace pv {
 // The scene file documents "ior" in [0.001, 1000]: both ends are accepted (0.001 as a double is below the float
@@ -191,5 +195,66 @@ TEST(LoaderBounds, GltfIorAboveTheSceneFileBoundIsClampedWithAWarning) {
                               "ior.gltf");
     EXPECT_EQ(std::get<MetallicRoughness>(s.materials[0].bsdf).ior, 1000.f);
     EXPECT_TRUE(s.warnings.empty());
+}
+
+namespace {
+// The process's peak resident memory so far, in bytes (a high-water mark: a test compares it before and after).
+uint64_t peak_rss() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return uint64_t(u.ru_maxrss) * 1024;
+}
+
+// A 2x2 binary PPM followed by zeros up to 1 GiB (sparse: no disk used): its header needs 12 bytes of pixels.
+std::string huge_ppm(const test::TestDir& dir) {
+    const std::string path = dir.write("huge.ppm", std::string("P6\n2 2\n255\n") + std::string(12, '\x80'));
+    std::filesystem::resize_file(path, uint64_t(1) << 30);
+    return path;
+}
+}  // namespace
+
+// Issue 41 item 5: an image named by a glTF uri (or --environment) was read whole (1 GiB sparse: 2.1 GB peak, 11-15
+// s) before its header was looked at. The header is read first; the file is refused when it is larger than 16
+// bytes a declared pixel plus 64 MiB, without reading it.
+TEST(LoaderBounds, ImageFileIsNotReadPastWhatItsHeaderNeeds) {
+    const test::TestDir dir("bounds");
+    const std::string ppm = huge_ppm(dir);
+    const uint64_t before = peak_rss();
+    const std::string e = refusal([&] { Texture::load(ppm); });
+    EXPECT_EQ(e, ppm + ": the file is 1073741824 bytes; a 2x2 image needs at most 67108928");
+    const std::string gltf =
+        dir.write("image.gltf", triangle_gltf(R"(, "images": [{"uri": "huge.ppm"}], "textures": [{"source": 0}],
+            "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}])"));
+    const Scene s = load_gltf(gltf);
+    EXPECT_EQ(s.textures.size(), 0u);
+    ASSERT_FALSE(s.warnings.empty());
+    EXPECT_NE(s.warnings[0].find("a 2x2 image needs at most 67108928"), std::string::npos) << s.warnings[0];
+    EXPECT_LT(peak_rss() - before, uint64_t(256) << 20);  // the file was not read (1 GiB)
+    // The same file cut to its 27 bytes loads.
+    std::filesystem::resize_file(ppm, 27);
+    EXPECT_EQ(Texture::load(ppm).width(), 2);
+}
+
+// Issue 41 item 5: a buffer's file was read into a string, then copied into tinygltf's vector (2x its size at the
+// peak); it is read straight into the vector. 256 MiB (sparse) buffer: the peak grows by about 256 MiB, not 512.
+TEST(LoaderBounds, GltfBufferFileIsHeldOnce) {
+    const test::TestDir dir("bounds");
+    const uint64_t n = uint64_t(256) << 20;
+    std::string tri(36, '\0');
+    const float p[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    std::memcpy(tri.data(), p, 36);
+    std::filesystem::resize_file(dir.write("big.bin", tri), n);
+    const std::string gltf =
+        dir.write("big.gltf", R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                       "min": [0, 0, 0], "max": [1, 1, 0]}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}],
+        "buffers": [{"byteLength": 268435456, "uri": "big.bin"}]})");
+    const uint64_t before = peak_rss();
+    const Scene s = load_gltf(gltf);
+    EXPECT_EQ(s.triangle_count(), 1u);
+    const uint64_t grew = peak_rss() - before;
+    EXPECT_LT(grew, n + n / 2) << grew / 1048576 << " MiB";
 }
 }  // namespace pv
