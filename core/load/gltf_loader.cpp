@@ -249,6 +249,17 @@ bool decode_image(tinygltf::Image* image, const int index, std::string* err, std
         L.warnings.push_back(L.file + ": " + at + ": no image data; flat colour used");
         return true;
     }
+    // An embedded image (a bufferView or data URI) decodes to at most max(2^24, 64 x its bytes) pixels: a 472 KB
+    // file holding an 11000x11000 PNG decoded to 1.4 GB within the 135-MP budget of image files.
+    int w = 0, h = 0;
+    const uint64_t embedded_max = std::max<uint64_t>(uint64_t(1) << 24, uint64_t(64) * uint64_t(size));
+    if (image->uri.empty() && image_header_size(bytes, size_t(size), w, h) &&
+        uint64_t(w) * uint64_t(h) > embedded_max) {
+        L.warnings.push_back(L.file + ": " + at + ": an embedded " + str(size_t(w)) + "x" + str(size_t(h)) +
+                             " image in " + str(size_t(size)) + " bytes is over the budget of embedded images (" +
+                             str(embedded_max) + " pixels: 64 a byte, at least 2^24); flat colour used");
+        return true;
+    }
     try {
         L.images[index] = Texture::decode(std::string(reinterpret_cast<const char*>(bytes), size_t(size)),
                                           L.file + ": " + at + (image->uri.empty() ? "" : " (" + image->uri + ")"),

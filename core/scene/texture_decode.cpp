@@ -454,6 +454,13 @@ std::string read_image_file(const std::string& path, const char* what) {
     return read_regular_file(path, need, what);
 }
 
+bool image_header_size(const unsigned char* bytes, size_t size, int& width, int& height) {
+    int n = 0;
+    return size <= size_t(std::numeric_limits<int>::max()) && size >= 4 &&
+           std::memcmp(bytes, "\x76\x2f\x31\x01", 4) != 0 &&
+           stbi_info_from_memory(bytes, int(size), &width, &height, &n) != 0;
+}
+
 Texture Texture::load(const std::string& path, bool alpha_only, std::vector<std::string>* warnings) {
     const char* what = "an image (PNG, JPEG, TGA, BMP, PSD, GIF, PNM, HDR or EXR)";
     // An EXR is read by OpenEXR from the file, not copied into memory first.

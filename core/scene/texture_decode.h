@@ -21,4 +21,8 @@ std::string resolve_texture_path(const std::string& dir, const std::string& name
 // was looked at.) EXR and headers past the first 64 KiB: read up to the budget's 16 bytes a pixel plus 64 MiB.
 std::string read_image_file(const std::string& path, const char* what);
 
+// The width and height an image file's header declares (stb_image's formats; false for EXR, for anything else it
+// cannot read, and past 2 GiB).
+bool image_header_size(const unsigned char* bytes, size_t size, int& width, int& height);
+
 }  // namespace pv

@@ -1,6 +1,7 @@
 // test_loader_bounds.cpp: the numeric bounds a scene file states are the bounds it applies (issue 41 item 5).
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <zlib.h>
 
 #include <cstring>
 #include <filesystem>
@@ -256,5 +257,77 @@ TEST(LoaderBounds, GltfBufferFileIsHeldOnce) {
     EXPECT_EQ(s.triangle_count(), 1u);
     const uint64_t grew = peak_rss() - before;
     EXPECT_LT(grew, n + n / 2) << grew / 1048576 << " MiB";
+}
+
+namespace {
+// An 8-bit grey PNG of w x h zeros (one zlib stream: a few KB for millions of pixels).
+std::string zero_png(uint32_t w, uint32_t h) {
+    auto be32 = [](std::string& s, uint32_t v) {
+        for (int i = 3; i >= 0; --i) s += char((v >> (8 * i)) & 0xff);
+    };
+    auto chunk = [&](std::string& png, const char* type, const std::string& data) {
+        be32(png, uint32_t(data.size()));
+        const std::string body = std::string(type, 4) + data;
+        png += body;
+        be32(png, uint32_t(crc32(0, reinterpret_cast<const Bytef*>(body.data()), uInt(body.size()))));
+    };
+    std::string png = "\x89PNG\r\n\x1a\n", ihdr;
+    be32(ihdr, w);
+    be32(ihdr, h);
+    ihdr += std::string("\x08\x00\x00\x00\x00", 5);  // 8-bit grey, deflate, no filter, no interlace
+    chunk(png, "IHDR", ihdr);
+    const std::string raw(size_t(w + 1) * h, '\0');  // each row: filter byte 0, then w zeros
+    uLongf n = compressBound(uLong(raw.size()));
+    std::string z(n, '\0');
+    compress2(reinterpret_cast<Bytef*>(z.data()), &n, reinterpret_cast<const Bytef*>(raw.data()), uLong(raw.size()), 9);
+    z.resize(n);
+    chunk(png, "IDAT", z);
+    chunk(png, "IEND", "");
+    return png;
+}
+
+std::string base64_of(const std::string& in) {
+    static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    size_t i = 0;
+    for (; i + 2 < in.size(); i += 3) {
+        const uint32_t v = uint32_t(uint8_t(in[i])) << 16 | uint32_t(uint8_t(in[i + 1])) << 8 | uint8_t(in[i + 2]);
+        out += std::string{t[v >> 18], t[(v >> 12) & 63], t[(v >> 6) & 63], t[v & 63]};
+    }
+    if (i + 1 == in.size()) {
+        const uint32_t v = uint32_t(uint8_t(in[i])) << 16;
+        out += std::string{t[v >> 18], t[(v >> 12) & 63], '=', '='};
+    } else if (i + 2 == in.size()) {
+        const uint32_t v = uint32_t(uint8_t(in[i])) << 16 | uint32_t(uint8_t(in[i + 1])) << 8;
+        out += std::string{t[v >> 18], t[(v >> 12) & 63], t[(v >> 6) & 63], '='};
+    }
+    return out;
+}
+}  // namespace
+
+// Issue 41 item 5: a 472 KB glTF with an embedded 11000x11000 PNG decoded to 1.4 GB (within the 135-MP budget of
+// image files). Embedded images (data URI or bufferView) get max(2^24, 64 x their bytes) pixels: 4096x4096 of zeros
+// (a few KB) is the most such a file decodes; one row more is refused in a warning, flat colour used.
+TEST(LoaderBounds, EmbeddedGltfImageHasALowerDecodeBudget) {
+    for (const uint32_t h : {4096u, 4097u}) {
+        const std::string png = zero_png(4096, h);
+        ASSERT_LT(uint64_t(png.size()) * 64, uint64_t(1) << 24);
+        const Scene s =
+            load_gltf_from_memory(triangle_gltf(R"(, "images": [{"uri": "data:image/png;base64,)" + base64_of(png) +
+                                                R"("}], "textures": [{"source": 0}],
+                "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}])"),
+                                  "embedded.gltf");
+        if (h == 4096) {
+            EXPECT_EQ(s.textures.size(), 1u);
+            for (const std::string& w : s.warnings) ADD_FAILURE() << w;
+        } else {
+            EXPECT_EQ(s.textures.size(), 0u);
+            ASSERT_FALSE(s.warnings.empty());
+            EXPECT_EQ(s.warnings[0].rfind("embedded.gltf: /images/0: an embedded 4096x4097 image in ", 0), 0u)
+                << s.warnings[0];
+            EXPECT_NE(s.warnings[0].find("over the budget of embedded images (16777216 pixels"), std::string::npos)
+                << s.warnings[0];
+        }
+    }
 }
 }  // namespace pv
