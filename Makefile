@@ -95,16 +95,19 @@ test-tsan: deps
 # (corpus-partial) and the glTF loader (corpus-gltf, written by tests/fuzz/make_gltf_corpus.py). A fixed seed and a
 # fixed number of runs per fuzzer (at most about 30 s each on these machines; FUZZ_SECONDS caps the time), so a run
 # is deterministic for a given build: CI repeats exactly what was run before submitting, and a crash input
-# (./crash-*) reproduces.
+# (./crash-*) reproduces. fuzz_gltf runs twice: as the others, then (the entry ending in :large) with inputs up to
+# 1 MiB and a dictionary of glTF's keys (tests/fuzz/gltf.dict), where large counts and deep nesting live.
 FUZZ_SECONDS ?= 120
+FUZZ_LARGE_FLAGS := -max_len=1048576 -dict=tests/fuzz/gltf.dict
 FUZZERS := fuzz_obj:corpus:150000 fuzz_image:corpus-image:150000 fuzz_scene_json:corpus-json:400000 \
-  fuzz_partial:corpus-partial:6000 fuzz_gltf:corpus-gltf:30000
+  fuzz_partial:corpus-partial:6000 fuzz_gltf:corpus-gltf:30000 fuzz_gltf:corpus-gltf:2000:large
 test-fuzz: build-asan-fuzz
 	@set -e; for f in $(FUZZERS); do name=$${f%%:*}; rest=$${f#*:}; seeds=$${rest%%:*}; runs=$${rest#*:}; \
+	  extra=""; case $$runs in *:large) runs=$${runs%:large}; extra="$(FUZZ_LARGE_FLAGS)";; esac; \
 	  rm -rf build-asan-fuzz/$$seeds.new && mkdir -p build-asan-fuzz/$$seeds.new; \
-	  echo "make test-fuzz: $$name, $$runs runs from tests/fuzz/$$seeds"; \
+	  echo "make test-fuzz: $$name, $$runs runs from tests/fuzz/$$seeds $$extra"; \
 	  ./build-asan-fuzz/tests/fuzz/$$name -seed=1 -runs=$$runs -max_total_time=$(FUZZ_SECONDS) -timeout=60 \
-	    -rss_limit_mb=2048 -print_final_stats=1 build-asan-fuzz/$$seeds.new tests/fuzz/$$seeds; \
+	    -rss_limit_mb=2048 -print_final_stats=1 $$extra build-asan-fuzz/$$seeds.new tests/fuzz/$$seeds; \
 	done
 
 bench: build

@@ -9,6 +9,7 @@
 #include "core/base/file_io.h"
 #include "core/image/image_io.h"
 #include "core/load/gltf_loader.h"
+#include "core/load/json_bounds.h"
 #include "core/load/obj_loader.h"
 #include "core/load/start_view.h"
 #include "core/scene/environment.h"
@@ -233,6 +234,7 @@ void apply_material_overrides(const JsonReader& rs, const json& materials, const
 }  // namespace
 
 Scene load_scene_json_text(const std::string& text, const std::string& path) {
+    check_json_bounds(text, path, JsonBounds{});
     json j;
     try {
         j = json::parse(text);
@@ -329,6 +331,7 @@ std::string save_bookmark(const std::string& path, const std::string& name, cons
     std::error_code ec;
     if (fs::exists(out, ec)) {
         const std::string text = read_regular_file(out, kMaxJsonBytes, "a JSON scene file");
+        check_json_bounds(text, out, JsonBounds{});
         try {
             j = json::parse(text);
         } catch (const json::exception& e) {

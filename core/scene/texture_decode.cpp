@@ -434,6 +434,33 @@ Texture decode_png(const std::string& bytes, const std::string& path, bool alpha
 
 }  // namespace
 
+std::string read_image_file(const std::string& path, const char* what) {
+    const std::string head = read_regular_file_prefix(path, size_t(1) << 16, what);
+    const Format format = sniff(head);
+    const uint64_t size = regular_file_size(path, what);
+    constexpr uint64_t kSlack = uint64_t(64) << 20;
+    uint64_t need = image_limits().max_pixels * 16 + kSlack;  // the largest file the budget can need
+    int w = 0, h = 0, n = 0;
+    if (format != Format::Exr &&
+        stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(head.data()), int(head.size()), &w, &h, &n)) {
+        check_declared_size(path, w, h, size, pixels_per_byte(format));
+        need = std::min(need, uint64_t(w) * uint64_t(h) * 16 + kSlack);
+        if (size > need)
+            throw Error(path + ": the file is " + std::to_string(size) + " bytes; a " + std::to_string(w) + "x" +
+                        std::to_string(h) + " image needs at most " + std::to_string(need));
+    } else if (format == Format::Other) {
+        throw Error(path + ": cannot read image: " + readable_reason(stbi_failure_reason()));
+    }
+    return read_regular_file(path, need, what);
+}
+
+bool image_header_size(const unsigned char* bytes, size_t size, int& width, int& height) {
+    int n = 0;
+    return size <= size_t(std::numeric_limits<int>::max()) && size >= 4 &&
+           std::memcmp(bytes, "\x76\x2f\x31\x01", 4) != 0 &&
+           stbi_info_from_memory(bytes, int(size), &width, &height, &n) != 0;
+}
+
 Texture Texture::load(const std::string& path, bool alpha_only, std::vector<std::string>* warnings) {
     const char* what = "an image (PNG, JPEG, TGA, BMP, PSD, GIF, PNM, HDR or EXR)";
     // An EXR is read by OpenEXR from the file, not copied into memory first.
@@ -442,9 +469,7 @@ Texture Texture::load(const std::string& path, bool alpha_only, std::vector<std:
         std::vector<vec4> texels = read_exr_rgba(path, w, h);
         return from_exr_texels(std::move(texels), w, h);
     }
-    // The largest file the budget can need: 16 bytes a pixel (16-bit RGBA PSD/PNM) and headers.
-    const uint64_t max_bytes = image_limits().max_pixels * 16 + (uint64_t(64) << 20);
-    return decode(read_regular_file(path, max_bytes, what), path, alpha_only, warnings);
+    return decode(read_image_file(path, what), path, alpha_only, warnings);
 }
 
 Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_only,
