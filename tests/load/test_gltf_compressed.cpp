@@ -2,7 +2,7 @@
 // tests/data/gltf-compressed (scripts/make_compressed_gltf.sh: Draco's encoder API, gltfpack): each loads to the
 // triangles of its uncompressed original within the dequantization rounding of its positions; malformed compressed
 // data (truncated streams, counts past a buffer, unknown attribute ids, decoded sizes over the budget) ends in one
-// line naming the file and the JSON pointer.
+// line naming the file and the JSON pointer; the compressed, instanced showcase (assets/compressed-instanced) loads.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -86,6 +86,17 @@ TEST(GltfCompressed, EachLoadsToTheOriginalsTriangles) {
         expect_same_triangles(triangles(original), triangles(s), tol);
         EXPECT_FALSE(s.normal_indices.empty());
     }
+}
+
+// The showcase (scripts/make_compressed_showcase.sh: gltfpack -c of the test mesh placed by 400 nodes, and a ground
+// quad): every instance is there, each with the mesh's 960 triangles, and nothing was dropped.
+TEST(GltfCompressed, ShowcaseLoadsEveryInstance) {
+    const Scene s = load_gltf(std::string(PATHVIEW_ASSETS) + "/compressed-instanced/scene.glb");
+    EXPECT_EQ(s.triangles.size(), 400u * 960u + 2u);
+    EXPECT_EQ(s.stats.dropped_nonfinite, 0u);
+    EXPECT_EQ(s.stats.dropped_degenerate, 0u);
+    EXPECT_TRUE(s.has_camera);
+    EXPECT_EQ(s.punctual_lights.size(), 1u);
 }
 
 // The file's JSON changed by `edit`, written next to copies of its .bin files; loading it must fail with one line
