@@ -18,6 +18,7 @@
 
 #include "core/base/error.h"
 #include "core/base/file_io.h"
+#include "core/load/gltf_compression.h"
 #include "core/load/gltf_internal.h"
 #include "core/load/json_bounds.h"
 #include "core/scene/texture_decode.h"
@@ -270,7 +271,9 @@ bool decode_image(tinygltf::Image* image, const int index, std::string* err, std
     return true;
 }
 
-Scene load(const std::string& bytes, const std::string& file) {
+Scene load(const std::string& file_bytes, const std::string& file) {
+    std::string patched;  // compressed files made readable by tinygltf (core/load/gltf_compression.h)
+    const std::string& bytes = compressed_json_fixups(file_bytes, file, patched) ? patched : file_bytes;
     std::string dir = std::filesystem::path(file).parent_path().string();
     if (dir.empty()) dir = ".";
     const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
@@ -315,6 +318,7 @@ Scene load(const std::string& bytes, const std::string& file) {
     for (const auto& b : L.model.buffers) buffer_bytes += b.data.size();
     L.budget = size_t(
         std::min<uint64_t>(kMaxTriangles, std::max<uint64_t>(kMinInstancingBudget, kInstancingPerByte * buffer_bytes)));
+    decompress(L);
     L.convert_materials();
     if (!L.model.scenes.empty()) {
         int si = L.model.defaultScene;
