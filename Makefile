@@ -12,7 +12,7 @@ PACKAGES := build-essential cmake pkg-config ccache libglfw3-dev libimgui-dev li
   libembree-dev libtbb-dev libglm-dev libtinyobjloader-dev libopenexr-dev libgtest-dev libbenchmark-dev \
   libcli11-dev nlohmann-json3-dev libjpeg62-turbo-dev libpng-dev openexr xvfb xauth libgl1-mesa-dri xdotool imagemagick x11-apps \
   clang libclang-rt-14-dev clang-format libeigen3-dev libtinygltf-dev shellcheck \
-  libopencolorio-dev libdraco-dev libmeshoptimizer-dev gltfpack
+  libopencolorio-dev libdraco-dev libmeshoptimizer-dev gltfpack libwebp-dev
 
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DPATHVIEW_WERROR=ON
 # ccache: paths below the project are hashed relative to it, so a fresh clone (CI) reuses earlier compilations.

@@ -96,7 +96,11 @@ uint32_t Loader::texture_of(const tinygltf::TextureInfo& info, const std::string
         return kNoIndex;
     }
     const tinygltf::Texture& texture = model.textures[size_t(info.index)];
-    const int source = texture.source;
+    int source = texture.source;
+    if (const tinygltf::Value* webp = extension(texture.extensions, "EXT_texture_webp")) {  // preferred when present
+        const double d = value_number(*webp, "source", -1.0);
+        if (d >= 0.0 && d < 2147483647.0) source = int(d);
+    }
     TextureWrap ws = TextureWrap::Repeat, wt = TextureWrap::Repeat;  // no sampler: repeat (the specification)
     if (texture.sampler >= 0 && size_t(texture.sampler) < model.samplers.size()) {
         const tinygltf::Sampler& sm = model.samplers[size_t(texture.sampler)];

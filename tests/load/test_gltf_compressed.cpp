@@ -4,6 +4,7 @@
 // data (truncated streams, counts past a buffer, unknown attribute ids, decoded sizes over the budget) ends in one
 // line naming the file and the JSON pointer; the compressed, instanced showcase (assets/compressed-instanced) loads.
 #include <gtest/gtest.h>
+#include <webp/encode.h>
 
 #include <algorithm>
 #include <cfloat>
@@ -15,6 +16,7 @@
 
 #include "core/base/error.h"
 #include "core/load/gltf_loader.h"
+#include "core/scene/texture.h"
 #include "tests/support/temp_dir.h"
 
 namespace pv {
@@ -192,6 +194,94 @@ TEST(UntrustedCompressed, MeshoptBadStrideAndMode) {
         "meshopt.gltf",
         [](json& j) { j["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["mode"] = "POINTS"; },
         kMeshopt + "/mode", "expected ATTRIBUTES");
+}
+
+// ---- EXT_texture_webp ----
+
+// A lossless WebP of 3 x 2 RGBA pixels (libwebp's encoder).
+std::string webp_3x2(const uint8_t rgba[24]) {
+    uint8_t* out = nullptr;
+    const size_t n = WebPEncodeLosslessRGBA(rgba, 3, 2, 12, &out);
+    std::string s(reinterpret_cast<const char*>(out), n);
+    WebPFree(out);
+    return s;
+}
+
+const uint8_t kPixels[24] = {255, 0,  0,  255, 0,   255, 0,  255, 0,   0,   255, 255,
+                             10,  20, 30, 128, 200, 100, 50, 255, 255, 255, 255, 1};
+
+TEST(GltfWebp, DecodesLikeTheSamePixelsAsTga) {
+    // The same pixels as an uncompressed 32-bit TGA (top-left origin): the texels must be equal.
+    std::string tga(18, '\0');
+    tga[2] = 2, tga[12] = 3, tga[14] = 2, tga[16] = 32, tga[17] = 0x28;
+    for (int i = 0; i < 6; ++i)
+        tga += std::string{char(kPixels[4 * i + 2]), char(kPixels[4 * i + 1]), char(kPixels[4 * i]),
+                           char(kPixels[4 * i + 3])};
+    const Texture a = Texture::decode(webp_3x2(kPixels), "a.webp", false, nullptr);
+    const Texture b = Texture::decode(tga, "b.tga", false, nullptr);
+    ASSERT_EQ(a.width(), 3);
+    ASSERT_EQ(a.height(), 2);
+    const std::vector<vec4> ta = a.texels(), tb = b.texels();
+    ASSERT_EQ(ta.size(), 6u);
+    ASSERT_EQ(tb.size(), 6u);
+    for (size_t i = 0; i < 6; ++i) EXPECT_EQ(ta[i], tb[i]) << i;
+}
+
+TEST(GltfWebp, ATextureThroughTheExtensionLoads) {
+    test::TestDir dir("gltfw");
+    fs::copy_file(kData + "/original.bin", dir.path / "original.bin");
+    dir.write("t.webp", webp_3x2(kPixels));
+    json j = json::parse(read(kData + "/original.gltf"));
+    j["images"] = {{{"uri", "t.webp"}, {"mimeType", "image/webp"}}};
+    j["textures"] = {{{"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}}};
+    j["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    j["extensionsUsed"] = {"EXT_texture_webp"};
+    j["extensionsRequired"] = {"EXT_texture_webp"};
+    const Scene s = load_gltf(dir.write("webp.gltf", j.dump()));
+    ASSERT_LT(s.materials[0].base_color_texture, s.textures.size());
+    EXPECT_EQ(s.textures[s.materials[0].base_color_texture].width(), 3);
+    EXPECT_EQ(s.textures[s.materials[0].base_color_texture].height(), 2);
+    for (const std::string& w : s.warnings) EXPECT_EQ(w.find("EXT_texture_webp"), std::string::npos) << w;
+}
+
+TEST(UntrustedWebp, FileIsNotReadPastItsRiffLength) {
+    // A WebP file names its own length (RIFF); a file grown to 1 GiB (sparse) is refused from its first bytes, not
+    // read (it was read whole before being decoded), and the same file at its length loads.
+    test::TestDir dir("gltfw");
+    const std::string w = webp_3x2(kPixels);
+    const std::string path = dir.write("big.webp", w);
+    fs::resize_file(path, uint64_t(1) << 30);
+    try {
+        Texture::load(path);
+        ADD_FAILURE() << "a 1 GiB file with a " << w.size() << "-byte WebP in front was read";
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).rfind(path + ": the file is 1073741824 bytes; the limit for ", 0), 0u)
+            << e.what();
+    }
+    fs::resize_file(path, w.size());
+    EXPECT_EQ(Texture::load(path).width(), 3);
+}
+
+TEST(UntrustedWebp, HeaderOverTheBudgetIsRefusedBeforeDecoding) {
+    // The VP8L header's 14-bit width and height set to 16384 x 16384 (268 MP, over the 135-MP budget) in a file of
+    // a few dozen bytes: refused from the header, naming the file.
+    std::string w = webp_3x2(kPixels);
+    ASSERT_EQ(w.compare(12, 4, "VP8L"), 0);
+    ASSERT_EQ(uint8_t(w[20]), 0x2f);
+    uint32_t bits = 0;
+    std::memcpy(&bits, w.data() + 21, 4);
+    bits = (bits & ~0x0FFFFFFFu) | 16383u | (16383u << 14);
+    std::memcpy(w.data() + 21, &bits, 4);
+    try {
+        Texture::decode(w, "big.webp", false, nullptr);
+        ADD_FAILURE() << "a 16384 x 16384 WebP header was decoded";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_EQ(m.rfind("big.webp: ", 0), 0u) << m;
+        EXPECT_NE(m.find("16384"), std::string::npos) << m;
+    }
+    // Truncated data: one line, no crash.
+    EXPECT_THROW(Texture::decode(webp_3x2(kPixels).substr(0, 30), "cut.webp", false, nullptr), Error);
 }
 
 }  // namespace
