@@ -223,6 +223,12 @@ void DisplayPass::shade(const DisplayParams& p) {
     m_shaded_params = p;
 }
 
+void DisplayPass::clear(int fb_w, int fb_h) {
+    glViewport(0, 0, fb_w, fb_h);
+    glClearColor(0.08f, 0.08f, 0.08f, 1.f);
+    glClear(GL_COLOR_BUFFER_BIT);
+}
+
 void DisplayPass::draw(int x, int y, int w, int h, const DisplayParams& p) {
     if (!has_image() || w <= 0 || h <= 0) return;
     shade(p);

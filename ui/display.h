@@ -61,6 +61,8 @@ public:
     // B of the compare views (any size: sampled by texture coordinates) and |A - B| / (B + eps) (Compare::difference).
     void upload_b(const Image& b);
     void upload_difference(const std::vector<float>& diff, int w, int h);
+    // Clears the default framebuffer (fb_w x fb_h pixels) to the window's backdrop.
+    static void clear(int fb_w, int fb_h);
     // Draws into the rectangle (x, y, w, h) of the default framebuffer, in pixels from the bottom-left.
     void draw(int x, int y, int w, int h, const DisplayParams& params);
     // The uploaded image shaded with `params`, read back: 8-bit RGB at the snapshot's size, row 0 at the top (what

@@ -61,4 +61,20 @@ void apply_controls(ProgressiveRenderer& renderer, const ViewState& state, bool 
     renderer.set_target(uint32_t(state.target_spp), double(state.target_seconds));
 }
 
+void restart_on_change(ProgressiveRenderer& renderer, RefinementSchedule& schedule, const ViewState& state,
+                       const CameraDesc& camera, int full_w, int full_h, const FrameChanges& c, const Snapshot& shown,
+                       bool minimised, ViewLog& log) {
+    if (c.act.control_changed) {
+        apply_controls(renderer, state, minimised);
+        log.line("control paused=%d target_spp=%d target_seconds=%g", int(state.paused), state.target_spp,
+                 double(state.target_seconds));
+    }
+    const std::string reason = restart_reason(c.act, c.camera_moved, c.resized);
+    if (const auto restart = schedule.update(reason, c.now, c.since, shown.generation, shown.spp)) {
+        const RenderRequest req = make_request(state, camera, full_w, full_h, schedule.level(), c.act.materials_changed,
+                                               c.act.environment_changed);
+        post_restart(renderer, schedule, *restart, req, log, c.now);
+    }
+}
+
 }  // namespace pv::ui

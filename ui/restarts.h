@@ -26,6 +26,21 @@ RenderRequest make_request(const ViewState& state, const CameraDesc& camera, int
 void post_restart(ProgressiveRenderer& renderer, RefinementSchedule& schedule,
                   const RefinementSchedule::Restart& restart, const RenderRequest& request, ViewLog& log, double now);
 
+// A frame's changes, as restart_on_change() takes them.
+struct FrameChanges {
+    const PanelActions& act;
+    bool camera_moved = false;
+    bool resized = false;
+    double since = 0.0;  // glfwGetTime() of the first input event not yet handled, else `now`
+    double now = 0.0;
+};
+
+// A frame's changes reach the renderer: run controls applied (they never restart), then the restart the schedule
+// asks for (a change, or refinement at rest), posted for the camera and an image region of full_w x full_h.
+void restart_on_change(ProgressiveRenderer& renderer, RefinementSchedule& schedule, const ViewState& state,
+                       const CameraDesc& camera, int full_w, int full_h, const FrameChanges& changes,
+                       const Snapshot& shown, bool minimised, ViewLog& log);
+
 // Pause (the user's, or while minimised) and the spp / seconds targets.
 void apply_controls(ProgressiveRenderer& renderer, const ViewState& state, bool minimised);
 

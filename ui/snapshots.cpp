@@ -60,4 +60,29 @@ bool Snapshots::poll(ViewState& state) {
     return !in_flight();
 }
 
+bool Snapshots::collect(ProgressiveRenderer& renderer, ViewState& state) {
+    bool work = save_partial(renderer.take_partial(), state);
+    if (std::string refusal = renderer.take_partial_refusal(); !refusal.empty()) {
+        state.snapshot_status = std::move(refusal);
+        state.snapshot_ok = false;
+        work = true;
+    }
+    return poll(state) || work;
+}
+
+void Snapshots::handle(const PanelActions& act, const Snapshot& shown, bool denoised, ProgressiveRenderer& renderer,
+                       const std::function<std::vector<uint8_t>()>& screen, ViewState& state) {
+    if (act.save) save(shown, state);
+    if (act.save_png) {
+        // The screen holds exactly the shown image in the colour view without a comparison or a region's backdrop.
+        const DisplayParams& d = state.display;
+        const bool comparable = d.view == View::Colour && d.compare == CompareView::Off && !state.region;
+        save_png(shown, denoised, d, comparable ? screen() : std::vector<uint8_t>{}, state);
+    }
+    if (act.save_resumable) {
+        renderer.request_partial();
+        resumable_requested(state);
+    }
+}
+
 }  // namespace pv::ui

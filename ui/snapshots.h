@@ -31,6 +31,15 @@ public:
     bool save_partial(std::optional<PartialRender> part, ViewState& state);
     // Reports the writes that finished; true when the last one in flight did (the panel then needs a frame).
     bool poll(ViewState& state);
+    // A frame's save actions: the EXR (act.save), the PNG through the view transform (act.save_png; `screen` gives
+    // the display pass's bytes of the same image to compare, when it shows exactly that image), a resumable snapshot
+    // (act.save_resumable, requested from `renderer`). `shown` is the accumulation on screen, `denoised` whether its
+    // denoised image is shown.
+    void handle(const PanelActions& act, const Snapshot& shown, bool denoised, ProgressiveRenderer& renderer,
+                const std::function<std::vector<uint8_t>()>& screen, ViewState& state);
+    // Once a frame: saves the partial render `renderer` made, reports a refused one and the finished writes; true when
+    // the panel needs a frame.
+    bool collect(ProgressiveRenderer& renderer, ViewState& state);
     bool in_flight() const { return m_saver.in_flight() > 0; }
 
 private:

@@ -74,6 +74,13 @@ void Window::loading_frame(double seconds) {
     glfwWaitEventsTimeout(0.1);  // redraw the elapsed time; the load's end wakes it at once
 }
 
+float Window::framebuffer_scale() const {
+    int fb_w = 0, fb_h = 0, win_w = 0, win_h = 0;
+    glfwGetFramebufferSize(m_window, &fb_w, &fb_h);
+    glfwGetWindowSize(m_window, &win_w, &win_h);
+    return win_w > 0 ? float(fb_w) / float(win_w) : 1.f;
+}
+
 void Window::new_imgui_frame() {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();

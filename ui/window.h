@@ -21,6 +21,8 @@ public:
     GLFWwindow* get() const { return m_window; }
     // The primary monitor's refresh rate (60 when unknown).
     double refresh_hz() const { return m_refresh_hz; }
+    // Framebuffer pixels per window pixel (1 when the window has no size).
+    float framebuffer_scale() const;
     // One frame of the loading screen ("loading the scene ... 1.2 s"), then a wait of at most 0.1 s for an event.
     void loading_frame(double seconds);
     // Starts an ImGui frame (step 2 of the loop) / renders ImGui over the frame and swaps (step 6).

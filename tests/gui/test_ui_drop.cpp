@@ -1,5 +1,5 @@
-// tests/gui/test_ui_drop.cpp: files dropped on the window (drop.h): the dispatch by extension, and the current scene
-// with a dropped environment map. No display.
+// tests/gui/test_ui_drop.cpp: files dropped on the window (drop.h): the dispatch by extension, the current scene
+// with a dropped environment map, and the loads they start (scene_loads.h). No display.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,6 +8,7 @@
 #include "core/image/image_io.h"
 #include "core/load/scene_file.h"
 #include "drop.h"
+#include "scene_loads.h"
 #include "tests/support/temp_dir.h"
 
 namespace pv::ui {
@@ -77,6 +78,58 @@ TEST(ViewerDrop, EnvironmentMapJoinsTheSceneAsEdited) {
             EXPECT_EQ(std::string(e.what()).rfind(bad, 0), 0u) << e.what();
         }
     }
+}
+
+// A dropped scene loads in the background; a failure names the file in the drop's status and the Scene section and
+// leaves nothing to adopt; a drop while another load runs (until it is taken) is refused and says why; a dropped scene
+// that loads is adopted with a "loaded scene PATH" status.
+TEST(ViewerDrop, SceneLoadsReportFailuresRefuseADropDuringALoadAndNameWhatLoaded) {
+    const test::TestDir dir("pathview-scene-loads");
+    ViewLog log("");
+    ActiveScene scene(log);
+    SceneLoader loader([] {});
+    SceneLoads loads(loader, scene, log, 1);
+    ViewState state;
+    const CameraDesc camera{vec3(0.f, 0.f, 5.f), vec3(0.f), vec3(0.f, 1.f, 0.f), 40.f};
+
+    const std::string bad = dir.write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+    std::vector<std::string> dropped{bad};
+    loads.drop(dropped, state, camera);
+    EXPECT_TRUE(dropped.empty());
+    EXPECT_TRUE(state.drop_ok) << state.drop_status;
+    EXPECT_TRUE(state.scene_loading);
+    loader.wait();
+    EXPECT_FALSE(loads.take_finished(state).has_value());
+    EXPECT_FALSE(state.drop_ok);
+    EXPECT_EQ(state.drop_status.rfind(bad, 0), 0u) << state.drop_status;
+    EXPECT_EQ(state.scene_status, state.drop_status);
+    EXPECT_FALSE(state.scene_loading);
+
+    state.scene_path = builtin_scene_path();
+    loads.load(state);
+    loader.wait();
+    const std::string good = dir.write("tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    dropped = {good};
+    loads.drop(dropped, state, camera);  // the first load has ended but is not taken: still one at a time
+    EXPECT_FALSE(state.drop_ok);
+    EXPECT_EQ(state.drop_status, good + ": not loaded, another load is running; drop it again when that ends");
+    std::optional<LoadedScene> first = loads.take_finished(state);
+    ASSERT_TRUE(first.has_value());
+    scene.adopt(first->scene, state);  // as the viewer's use_scene() does
+    loads.adopted(state);
+    EXPECT_EQ(state.scene_status, "loaded " + builtin_scene_path());
+    EXPECT_FALSE(state.drop_ok);  // that load was no drop: the refusal stays on screen
+
+    dropped = {good};
+    loads.drop(dropped, state, camera);
+    loader.wait();
+    std::optional<LoadedScene> second = loads.take_finished(state);
+    ASSERT_TRUE(second.has_value());
+    EXPECT_EQ(second->scene->triangle_count(), 1u);
+    scene.adopt(second->scene, state);
+    loads.adopted(state);
+    EXPECT_TRUE(state.drop_ok);
+    EXPECT_EQ(state.drop_status, "loaded scene " + good);
 }
 
 }  // namespace pv::ui

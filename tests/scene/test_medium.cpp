@@ -82,7 +82,9 @@ TEST(Medium, SlabTransmittanceAndScatteringAreUnbiased) {
     constexpr int kSamples = 400000;
     const vec3 st = kMedium.sigma_t();
     double sum_pass[3] = {}, sq_pass[3] = {}, sum_scat[3] = {}, sq_scat[3] = {};
-    Pcg32 rng(11, 1);
+    // With seed 11 this 1%-level test drew a passing fraction 3.2 standard errors low (the expected one-in-a-hundred
+    // false alarm: 2e7 samples of the same code give z = -0.4), so it uses seed 12.
+    Pcg32 rng(12, 1);
     for (int i = 0; i < kSamples; ++i) {
         // The two numbers are drawn in a stated order: as call arguments their order would be the compiler's.
         const float u_channel = rng.next_float();
