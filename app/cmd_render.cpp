@@ -170,8 +170,8 @@ void start_render(Renderer& renderer, const RenderOptions& o, const RenderPlan& 
     renderer.set_region(region);
     renderer.restart(camera, o.common.settings, o.common.width, o.common.height);
     if (plan.resumed) {
-        const uint64_t hash =
-            scene_hash(renderer.scene(), renderer.traceable().materials(), renderer.traceable().environment_settings());
+        const uint64_t hash = scene_hash(renderer.scene(), renderer.traceable().materials(),
+                                         renderer.traceable().environment_settings(), renderer.traceable().fog());
         if (hash != plan.resumed->id.scene_hash)
             throw Error("--resume " + o.resume + ": the scene " + scene_path(o.common) +
                         " (with the part's environment flags) is not "

@@ -29,6 +29,7 @@ struct CommonOptions {
     std::string bookmark;    // start from this saved camera
     std::vector<float> sun;  // direction toward the sun
     std::optional<float> sun_irradiance, sun_radius;
+    std::vector<float> fog;  // --fog SIGMA_S[,SIGMA_A[,G]]: the global medium
     double max_image_megapixels = double(ImageLimits{}.max_pixels) * 1e-6;  // memory budget of one image
     // The flags add_common_options registered that define the image (size, settings, camera, scene overrides):
     // those that `render --resume` takes from the part.

@@ -283,6 +283,13 @@ void add_common_options(CLI::App& cmd, CommonOptions& o) {
     image(cmd.add_option("--sun-irradiance", o.sun_irradiance,
                          "Sun irradiance on a surface facing it (default 5 with --sun)")
               ->check(finite_range(0, 1e30)));
+    image(cmd.add_option("--fog", o.fog,
+                         "Fill the scene with a homogeneous medium (the camera inside it, closed glass solids "
+                         "excluded): SIGMA_S[,SIGMA_A[,G]], scattering and absorption per scene unit, the "
+                         "Henyey-Greenstein g in [-0.99, 0.99] (default 0); --fog 0 removes the scene file's fog")
+              ->expected(1, 3)
+              ->delimiter(',')
+              ->check(finite_range(-1e30, 1e30)));
     add_image_budget_option(cmd, o.max_image_megapixels,
                             "Largest environment map or texture read, in megapixels (a 16384x8192 map is 134); larger "
                             "or implausibly small files are refused before decoding");
@@ -336,6 +343,16 @@ void apply_scene_overrides(const CommonOptions& o, Scene& scene) {
         scene.environment.sun_irradiance = vec3(*o.sun_irradiance);
     }
     if (o.sun_radius) scene.environment.sun_angular_radius_deg = *o.sun_radius;
+    if (!o.fog.empty()) {
+        HomogeneousMedium fog;
+        fog.sigma_s = vec3(o.fog[0]);
+        if (o.fog.size() > 1) fog.sigma_a = vec3(o.fog[1]);
+        if (o.fog.size() > 2) fog.g = o.fog[2];
+        if (o.fog[0] < 0.f || (o.fog.size() > 1 && o.fog[1] < 0.f))
+            throw Error("--fog: SIGMA_S and SIGMA_A must not be negative");
+        if (!(std::fabs(fog.g) <= kMaxMediumG)) throw Error("--fog: G must be in [-0.99, 0.99]");
+        scene.fog = fog;
+    }
 }
 
 CameraDesc set_up_scene(const CommonOptions& o, Scene& scene) {

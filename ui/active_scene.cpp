@@ -22,6 +22,7 @@ void ActiveScene::adopt(std::shared_ptr<const Scene> scene, ViewState& state) {
     state.selected_material = -1;
     m_environment_lit = environment_emits(*m_scene, m_scene->environment);
     state.environment = m_scene->environment;
+    state.fog = m_scene->fog;
     state.has_environment_map = m_scene->environment_map != kNoIndex;
     state.bookmarks = m_scene->bookmarks;
     state.bookmark_status.clear();

@@ -41,6 +41,7 @@ struct ViewState {
     std::string drop_status;     // the last file dropped on the window: loading, loaded, or what failed
     bool drop_ok = true;
     EnvironmentSettings environment;  // sky, map rotation/strength, sun (Light section)
+    HomogeneousMedium fog;            // the global medium (Light section); edits post with the environment
     bool has_environment_map = false;
     std::vector<Scene::Bookmark> bookmarks;  // saved with the scene file (Camera section)
     std::string bookmark_status;

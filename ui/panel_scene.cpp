@@ -1,6 +1,7 @@
 // ui/panel_scene.cpp: the panel's scene sections: snapshot, light, camera (with bookmarks), materials, scene.
 #include <imgui.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -121,6 +122,20 @@ void Panel::lighting(ViewState& state, PanelActions& act) {
         }
         act.environment_changed |= ImGui::SliderFloat("sun radius", &e.sun_angular_radius_deg, 0.05f, 10.f, "%.2f deg",
                                                       ImGuiSliderFlags_Logarithmic);
+    }
+    // The global medium (docs/media.md): coefficients per scene unit, per channel; an edit restarts the accumulation.
+    HomogeneousMedium& f = state.fog;
+    bool fog_edit = ImGui::DragFloat3("fog scattering", &f.sigma_s.x, 0.002f, 0.f, 1e3f, "%.3g");
+    fog_edit |= ImGui::DragFloat3("fog absorption", &f.sigma_a.x, 0.002f, 0.f, 1e3f, "%.3g");
+    fog_edit |= ImGui::SliderFloat("fog g", &f.g, -kMaxMediumG, kMaxMediumG, "%.2f");
+    if (fog_edit) {
+        // Typed values bypass the drag's bounds: keep the coefficients non-negative and finite, |g| <= kMaxMediumG.
+        f.sigma_s = glm::clamp(f.sigma_s, vec3(0.f), vec3(1e3f));
+        f.sigma_a = glm::clamp(f.sigma_a, vec3(0.f), vec3(1e3f));
+        f.g = std::isfinite(f.g) ? std::clamp(f.g, -kMaxMediumG, kMaxMediumG) : 0.f;
+        if (!is_finite(f.sigma_s)) f.sigma_s = vec3(0.f);
+        if (!is_finite(f.sigma_a)) f.sigma_a = vec3(0.f);
+        act.environment_changed = true;
     }
 }
 

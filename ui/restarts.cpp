@@ -23,7 +23,10 @@ std::string restart_reason(const PanelActions& act, bool camera_moved, bool resi
 RenderRequest make_request(const ViewState& state, const CameraDesc& camera, int full_w, int full_h, int level,
                            bool with_materials, bool with_environment) {
     RenderRequest req;
-    if (with_environment) req.environment = state.environment;
+    if (with_environment) {
+        req.environment = state.environment;
+        req.fog = state.fog;
+    }
     req.camera = camera;
     req.settings = state.settings;
     req.adaptive = state.adaptive;

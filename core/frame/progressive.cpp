@@ -195,6 +195,7 @@ void ProgressiveRenderer::drive() {
         if (is_new) {
             if (!request.materials.empty()) m_renderer.set_materials(request.materials);
             if (request.environment) m_renderer.set_environment(*request.environment);
+            if (request.fog) m_renderer.set_fog(*request.fog);
             m_renderer.set_adaptive(request.adaptive);
             m_renderer.set_region(request.region);
             m_renderer.restart(request.camera, request.settings, request.width, request.height);

@@ -66,6 +66,11 @@ public:
         m_traceable->set_environment(settings);
         ++m_scene_version;
     }
+    // The global medium, as set_environment (the viewer's fog controls).
+    void set_fog(const HomogeneousMedium& fog) {
+        m_traceable->set_fog(fog);
+        ++m_scene_version;
+    }
     // The viewer: a restart that changes only the camera or the image size keeps the trained sky guide and auto's
     // decision (any guide leaves the estimator unbiased; retraining at every camera move would delay each first
     // pass while the user orbits). New settings, materials or environment retrain. Off by default: a render's

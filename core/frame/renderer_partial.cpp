@@ -8,7 +8,8 @@ namespace pv {
 PartialRender partial_from_renderer(const Renderer& r, std::vector<SampleRange> ranges) {
     RenderIdentity id;
     id.version = partial_version();
-    id.scene_hash = scene_hash(r.scene(), r.traceable().materials(), r.traceable().environment_settings());
+    id.scene_hash =
+        scene_hash(r.scene(), r.traceable().materials(), r.traceable().environment_settings(), r.traceable().fog());
     id.settings = r.settings_as_rendered().describe();
     id.camera = camera_text(r.camera().desc());
     id.width = r.film().width();

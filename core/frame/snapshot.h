@@ -19,6 +19,7 @@ struct RenderRequest {
     int width = 1, height = 1;
     std::vector<Material> materials;
     std::optional<EnvironmentSettings> environment;  // nothing = keep the current one
+    std::optional<HomogeneousMedium> fog;            // the global medium; nothing = keep the current one
     AdaptiveSettings adaptive;                       // noise threshold (off by default)
     // A render region in this request's pixels (Renderer::set_region; clamped to the image): every sample lands
     // inside it. Nothing: the whole image. Not with adaptive sampling; no resumable snapshot of a region.

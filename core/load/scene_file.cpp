@@ -218,6 +218,31 @@ void apply_lighting(const JsonReader& r, const json& env, const json& sun, const
     }
 }
 
+// A homogeneous medium (core/scene/medium.h), checked: "sigma_s" and "sigma_a" (per scene unit), or "albedo" and
+// "density" (sigma_t = density, sigma_s = albedo x density), not both pairs; colours as one number or 3; "g" (the
+// Henyey-Greenstein asymmetry) in [-0.99, 0.99].
+HomogeneousMedium read_medium(const JsonReader& r, const json& j, const Ptr& at) {
+    r.object(j, at, {"sigma_s", "sigma_a", "albedo", "density", "g"});
+    auto colour = [&](const char* key, float hi) {
+        const json& e = j[key];
+        return e.is_number() ? vec3(r.number(e, at / key, 0.f, hi)) : r.vec(e, at / key, 0.f, hi);
+    };
+    const bool coefficients = j.contains("sigma_s") || j.contains("sigma_a");
+    const bool albedo = j.contains("albedo") || j.contains("density");
+    if (coefficients && albedo) r.fail(at, "give sigma_s and sigma_a, or albedo and density, not both");
+    HomogeneousMedium m;
+    if (albedo) {
+        if (!j.contains("density")) r.fail(at / "density", "missing; expected a number (with albedo)");
+        const vec3 a = j.contains("albedo") ? colour("albedo", 1.f) : vec3(1.f);
+        m = HomogeneousMedium::from_albedo(a, r.number(j["density"], at / "density", 0.f, kBig), 0.f);
+    } else {
+        if (j.contains("sigma_s")) m.sigma_s = colour("sigma_s", kBig);
+        if (j.contains("sigma_a")) m.sigma_a = colour("sigma_a", kBig);
+    }
+    if (j.contains("g")) m.g = r.number(j["g"], at / "g", -kMaxMediumG, kMaxMediumG);
+    return m;
+}
+
 // "materials": each key overrides the materials of that name (rs warns about unknown keys).
 void apply_material_overrides(const JsonReader& rs, const json& materials, const Ptr& at, Scene& scene) {
     for (const auto& [name, o] : materials.items()) {
@@ -246,7 +271,7 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     const Ptr root;
     r.object(j, root,
              {"obj", "camera", "background", "environment", "sun", "portals", "bookmarks", "two_sided_emitters",
-              "materials"});
+              "materials", "fog"});
     if (!j.contains("obj")) r.fail(root / "obj", "missing; expected the OBJ file name");
     const std::string obj = r.string(j["obj"], root / "obj");
     const std::filesystem::path dir = std::filesystem::path(path).parent_path();
@@ -266,6 +291,7 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
     const json& materials = j.contains("materials") ? r.object(j["materials"], root / "materials", {}) : none;
     const std::vector<Portal> portals =
         j.contains("portals") ? read_portals(r, j["portals"], root / "portals") : std::vector<Portal>{};
+    const HomogeneousMedium fog = j.contains("fog") ? read_medium(r, j["fog"], root / "fog") : HomogeneousMedium{};
 
     // "obj" may name a glTF file (.gltf, .glb); its camera is the start view unless "camera" is given, and its
     // cameras come before the file's "bookmarks".
@@ -275,6 +301,7 @@ Scene load_scene_json_text(const std::string& text, const std::string& path) {
         for (Material& m : scene.materials) m.two_sided_emission = true;
     scene.source = path;
     scene.portals = portals;
+    scene.fog = fog;
     scene.warnings.insert(scene.warnings.end(), warnings.begin(), warnings.end());
     const JsonReader rs{path, &scene.warnings};
     if (j.contains("background")) scene.environment.background = r.vec(j["background"], root / "background", 0.f, kBig);

@@ -93,7 +93,8 @@ void hash_material(Hasher& h, const Material& m) {
 
 }  // namespace
 
-uint64_t scene_hash(const Scene& scene, const std::vector<Material>& materials, const EnvironmentSettings& env) {
+uint64_t scene_hash(const Scene& scene, const std::vector<Material>& materials, const EnvironmentSettings& env,
+                    const HomogeneousMedium& fog) {
     Hasher h;
     h.vector(scene.positions);
     h.vector(scene.triangles);
@@ -143,10 +144,10 @@ uint64_t scene_hash(const Scene& scene, const std::vector<Material>& materials, 
     h.value(env.sun_direction);
     h.value(env.sun_angular_radius_deg);
     h.value(env.sun_irradiance);
-    if (!scene.fog.empty()) {  // the global medium only when present: scenes without one hash as before
-        h.value(scene.fog.sigma_a);
-        h.value(scene.fog.sigma_s);
-        h.value(scene.fog.g);
+    if (!fog.empty()) {  // the global medium only when present: scenes without one hash as before
+        h.value(fog.sigma_a);
+        h.value(fog.sigma_s);
+        h.value(fog.g);
     }
     return h.get();
 }

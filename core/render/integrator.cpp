@@ -42,7 +42,7 @@ void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings,
     // prefetched) is still on its way from memory. The Sobol sampler draws a dimension as a function of it alone, so
     // drawing u_light for a vertex that then takes no light sample (a delta BSDF) changes nothing else; the
     // independent sampler draws in stream order and keeps the draw where it was.
-    m_fog = !ts.scene().fog.empty();
+    m_fog = !ts.fog().empty();
     m_in_solid = false;
     m_early_sky = m_nee && !m_select_draw && sampler.kind() == SamplerKind::Sobol && !m_fog;
     m_ray = ray;
@@ -383,7 +383,7 @@ PV_STAGE bool PathWalker::roulette(uint32_t dim) {
 // there; false when the segment is passed (the throughput takes its transmittance weight) and the hit, or the escape,
 // is handled as without a medium.
 PV_STAGE bool PathWalker::fog_segment(bool hit, float t_hit, Next& next) {
-    const HomogeneousMedium& fog = m_ts->scene().fog;
+    const HomogeneousMedium& fog = m_ts->fog();
     const uint32_t dim = m_sampler->reserve(kMediumDims);
     const float u_channel = m_sampler->get1d_at(dim);
     const float u_dist = m_sampler->get1d_at(dim + 1);
@@ -403,7 +403,7 @@ PV_STAGE bool PathWalker::fog_segment(bool hit, float t_hit, Next& next) {
 
 // The fog's transmittance over a shadow ray of length dist (infinite toward the environment).
 inline vec3 PathWalker::fog_transmittance(float dist) const {
-    const HomogeneousMedium& fog = m_ts->scene().fog;
+    const HomogeneousMedium& fog = m_ts->fog();
     vec3 tr(0.f);
     for (int c = 0; c < 3; ++c) {
         const float st = fog.sigma_t()[c];
@@ -417,7 +417,7 @@ inline vec3 PathWalker::fog_transmittance(float dist) const {
 // phase function's sample (weight 1: it is sampled exactly), roulette and the next ray from p.
 PV_STAGE PathWalker::Next PathWalker::medium_scatter(vec3 p) {
     const TraceableScene& ts = *m_ts;
-    const HomogeneousMedium& fog = ts.scene().fog;
+    const HomogeneousMedium& fog = ts.fog();
     ++m_counters.vertices;
     if (m_depth >= m_settings->max_depth) return Next::End;
     Sampler& sampler = *m_sampler;

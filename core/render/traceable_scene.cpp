@@ -30,6 +30,7 @@ TraceableScene::TraceableScene(std::shared_ptr<const Scene> scene, const std::fu
     }
     m_lights = LightSet(*m_scene, m_materials);
     m_environment_settings = m_scene->environment;
+    m_fog = m_scene->fog;
     m_environment = Environment(*m_scene, m_environment_settings);
     update_selection();
 }

@@ -61,6 +61,8 @@ public:
     void set_materials(const std::vector<Material>& materials);
     // Replaces the environment's parameters (sky colour, map rotation and strength, sun); the map is the scene's.
     void set_environment(const EnvironmentSettings& settings);
+    // Replaces the global medium (the scene's fog at construction; the viewer edits it).
+    void set_fog(const HomogeneousMedium& fog) { m_fog = fog; }
 
     const Scene& scene() const { return *m_scene; }
     const std::vector<Material>& materials() const { return m_materials; }
@@ -71,6 +73,7 @@ public:
     const LightSet& triangle_lights() const { return m_lights; }
     const Environment& environment() const { return m_environment; }
     const EnvironmentSettings& environment_settings() const { return m_environment_settings; }
+    const HomogeneousMedium& fog() const { return m_fog; }
 
     // Closest hit and occlusion (see Accel).
     bool intersect(const Ray& ray, Hit& hit) const { return m_accel->intersect(ray, hit); }
@@ -162,6 +165,7 @@ private:
     LightSet m_lights;
     LightSamplerKind m_light_sampler = LightSamplerKind::Power;
     EnvironmentSettings m_environment_settings;
+    HomogeneousMedium m_fog;
     Environment m_environment;
     float m_p_env = 0.f;
     float m_p_portal = 0.f;

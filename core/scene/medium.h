@@ -17,6 +17,9 @@
 
 namespace pv {
 
+// The largest |g| a scene file, --fog or the viewer gives (|g| -> 1 makes the phase function a delta).
+constexpr float kMaxMediumG = 0.99f;
+
 // A homogeneous medium: absorption and scattering coefficients per scene unit (RGB), and the Henyey-Greenstein
 // asymmetry g in (-1, 1) (0: isotropic, > 0: forward scattering).
 struct HomogeneousMedium {

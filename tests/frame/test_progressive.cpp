@@ -50,6 +50,7 @@ RenderRequest request(int w, int h, RenderSettings settings = {}) {
 std::vector<float> reference(const RenderRequest& req, int passes) {
     Renderer r(cornell(), 1);
     if (!req.materials.empty()) r.set_materials(req.materials);
+    if (req.fog) r.set_fog(*req.fog);
     r.restart(req.camera, req.settings, req.width, req.height);
     for (int i = 0; i < passes; ++i) r.render_pass();
     return r.film().mean().rgb;
@@ -138,6 +139,32 @@ TEST(ProgressiveRenderer, MaterialChangeRestartsWithNewMaterials) {
     const Snapshot s = settled(pr, g2, 2);
     ASSERT_EQ(s.generation, g2);
     EXPECT_EQ(s.rgb, reference(req, 2));
+}
+
+// The viewer's fog controls: a request's fog replaces the scene's (the image is the synchronous renderer's with that
+// fog, and differs from the one without), and a later request without one keeps it.
+TEST(ProgressiveRenderer, FogChangeRestartsWithTheNewFog) {
+    ProgressiveRenderer pr(cornell(), kThreads);
+    RenderRequest req = request(24, 24);
+    pr.set_target(2, 0.0);
+    const uint64_t g1 = pr.restart(req);
+    const Snapshot clear = settled(pr, g1, 2);
+    ASSERT_EQ(clear.generation, g1);
+    req.fog = HomogeneousMedium{vec3(0.1f, 0.2f, 0.3f), vec3(0.3f), 0.2f};
+    const uint64_t g2 = pr.restart(req);
+    const Snapshot foggy = settled(pr, g2, 2);
+    ASSERT_EQ(foggy.generation, g2);
+    EXPECT_EQ(foggy.rgb, reference(req, 2));
+    EXPECT_NE(foggy.rgb, clear.rgb);
+    RenderRequest kept = req;
+    kept.fog.reset();
+    kept.settings.seed = 1;  // a restart that is not the fog's
+    const uint64_t g3 = pr.restart(kept);
+    const Snapshot s3 = settled(pr, g3, 2);
+    ASSERT_EQ(s3.generation, g3);
+    RenderRequest expected = kept;
+    expected.fog = req.fog;
+    EXPECT_EQ(s3.rgb, reference(expected, 2));
 }
 
 TEST(ProgressiveRenderer, SnapshotWhileRendering) {

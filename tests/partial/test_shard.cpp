@@ -180,6 +180,9 @@ TEST(ShardFormat, SceneHashSeesMaterialsEnvironmentAndGeometry) {
     Scene moved = scene;
     moved.positions[0].x = std::nextafter(moved.positions[0].x, 1e30f);
     EXPECT_NE(h, scene_hash(moved, scene.materials, env));
+    // The fog as traced (the viewer's edit), not only the scene's; no fog hashes as before.
+    EXPECT_EQ(h, scene_hash(scene, scene.materials, env, HomogeneousMedium{}));
+    EXPECT_NE(h, scene_hash(scene, scene.materials, env, HomogeneousMedium{vec3(0.f), vec3(0.1f), 0.f}));
 }
 
 TEST(ShardFormat, ShardsTileTheSampleRange) {
