@@ -71,7 +71,7 @@ def main():
                quad_attr, quad_idx, [0.0, 1.9, 0.2], 1.2)
     nodes[-1]["rotation"] = [1.0, 0.0, 0.0, 0.0]  # facing down
     tilt = -0.42
-    nodes.append({"name": "front", "camera": 0, "translation": [0.2, 1.55, 3.2],
+    nodes.append({"name": "front", "camera": 0, "translation": [0.3, 1.9, 4.4],
                   "rotation": [math.sin(tilt / 2), 0.0, 0.0, math.cos(tilt / 2)]})
     gltf = {
         "asset": {"version": "2.0", "generator": "pathview scripts/make_gltf_layers.py"},
