@@ -35,6 +35,16 @@ bool edit_material(Material& m) {
         changed |= ImGui::SliderFloat("IOR", &f.ior, 1.f, 3.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
         changed |= ImGui::SliderFloat("transmission", &f.transmission, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
         changed |= ImGui::SliderFloat("specular", &f.specular_weight, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+        // KHR_materials_clearcoat and _sheen: layers over the base, present only when non-zero
+        changed |= ImGui::SliderFloat("clearcoat", &f.clearcoat, 0.f, 1.f, "%.3f", ImGuiSliderFlags_AlwaysClamp);
+        if (f.clearcoat > 0.f)
+            changed |= ImGui::SliderFloat("clearcoat roughness", &f.clearcoat_roughness, 0.f, 1.f, "%.3f",
+                                          ImGuiSliderFlags_AlwaysClamp);
+        changed |= ImGui::ColorEdit3("sheen colour", &f.sheen_color.x, ImGuiColorEditFlags_Float);
+        if (max_component(f.sheen_color) > 0.f)
+            changed |= ImGui::SliderFloat("sheen roughness", &f.sheen_roughness, 0.f, 1.f, "%.3f",
+                                          ImGuiSliderFlags_AlwaysClamp);
+        if (m.has_layer_textures()) ImGui::TextDisabled("clearcoat / sheen textures scale these factors");
     }
     if (changed) set_bsdf(m, f);  // fitted to the material's textures, as the loader fits it
 

@@ -32,6 +32,9 @@ struct GltfMaterial {
     float thickness = 0.f;  // KHR_materials_volume: 0 is thin-walled
     vec3 attenuation_color{1.f};
     float attenuation_distance = std::numeric_limits<float>::infinity();
+    float clearcoat = 0.f, clearcoat_roughness = 0.f;  // KHR_materials_clearcoat
+    vec3 sheen_color{0.f};                             // KHR_materials_sheen
+    float sheen_roughness = 0.f;
 };
 
 // The BSDF of a glTF material: core/scene/bsdf_pbr.h's MetallicRoughness, through make_bsdf (which clamps, and keeps
@@ -49,6 +52,10 @@ Bsdf gltf_bsdf(const GltfMaterial& g) {
     p.thin_walled = !(g.thickness > 0.f);
     p.attenuation_color = g.attenuation_color;
     p.attenuation_distance = g.attenuation_distance;
+    p.clearcoat = g.clearcoat;
+    p.clearcoat_roughness = g.clearcoat_roughness;
+    p.sheen_color = g.sheen_color;
+    p.sheen_roughness = g.sheen_roughness;
     return make_bsdf(p);
 }
 
@@ -169,6 +176,17 @@ GltfMaterial material_parameters(const tinygltf::Material& gm) {
         const float d = finite_or(value_number(*e, "attenuationDistance", 0.0), 0.f);
         if (d > 0.f) g.attenuation_distance = d;
     }
+    if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_clearcoat")) {
+        g.clearcoat = glm::clamp(finite_or(value_number(*e, "clearcoatFactor", 0.0), 0.f), 0.f, 1.f);
+        g.clearcoat_roughness = glm::clamp(finite_or(value_number(*e, "clearcoatRoughnessFactor", 0.0), 0.f), 0.f, 1.f);
+    }
+    if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_sheen")) {
+        double sc[3];
+        if (value_numbers(*e, "sheenColorFactor", sc, 3))
+            g.sheen_color = glm::clamp(vec3(finite_or(sc[0], 0.f), finite_or(sc[1], 0.f), finite_or(sc[2], 0.f)),
+                                       vec3(0.f), vec3(1.f));
+        g.sheen_roughness = glm::clamp(finite_or(value_number(*e, "sheenRoughnessFactor", 0.0), 0.f), 0.f, 1.f);
+    }
     return g;
 }
 
@@ -272,6 +290,67 @@ void set_linear_textures(Loader& L, const tinygltf::Material& gm, const std::str
     }
 }
 
+// A texture reference inside an extension object ({"index", "texCoord", "extensions"}) as tinygltf's TextureInfo
+// (index -1 when absent or not a valid index).
+tinygltf::TextureInfo extension_texture(const tinygltf::Value& e, const char* key) {
+    tinygltf::TextureInfo info;
+    if (!e.Has(key) || !e.Get(key).IsObject()) return info;
+    const tinygltf::Value& t = e.Get(key);
+    const double index = value_number(t, "index", -1.0), set = value_number(t, "texCoord", 0.0);
+    info.index = index >= 0.0 && index < 2147483647.0 ? int(index) : -1;
+    info.texCoord = set >= 0.0 && set < 2147483647.0 ? int(set) : 0;
+    if (t.Has("extensions") && t.Get("extensions").IsObject()) {
+        const tinygltf::Value& x = t.Get("extensions");
+        for (const std::string& k : x.Keys()) info.extensions[k] = x.Get(k);
+    }
+    return info;
+}
+
+// One texture of KHR_materials_clearcoat or _sheen, read at the mesh's uvs (the base colour's transform) as the
+// metallic-roughness texture is; `linear` data is undecoded (linear_copy). kNoIndex, with a warning, where the
+// texture's transform or texCoord differs (the factor alone is used).
+uint32_t layer_texture(Loader& L, const tinygltf::Value& e, const char* key, const std::string& at,
+                       const BaseColor& base, std::map<uint32_t, uint32_t>& copies, bool linear) {
+    const tinygltf::TextureInfo info = extension_texture(e, key);
+    if (info.index < 0) return kNoIndex;
+    const std::string t_at = at + "/" + key;
+    UvTransform uv;
+    const uint32_t tex = L.texture_of(info, t_at, uv);
+    if (tex == kNoIndex) return kNoIndex;
+    if (!(uv == base.shared_uv())) {
+        L.warn_once(t_at, t_at +
+                              ": a texture transform or texCoord other than the base colour's is not supported; the "
+                              "factor is used");
+        return kNoIndex;
+    }
+    return linear ? linear_copy(*L.scene, copies, tex) : tex;
+}
+
+// KHR_materials_clearcoat's and _sheen's textures, for a material whose BSDF has the layer (a zero factor makes the
+// texture moot). The coat's own normal map is not supported: the coat uses the base's shading normal (a warning).
+void set_layer_textures(Loader& L, const tinygltf::Material& gm, const std::string& at, const BaseColor& base,
+                        std::map<uint32_t, uint32_t>& copies, Material& m) {
+    const auto* mr = std::get_if<MetallicRoughness>(&m.bsdf);
+    if (!mr) return;
+    if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_clearcoat");
+        e && mr->has(MetallicRoughness::kClearcoat)) {
+        const std::string c_at = at + "/extensions/KHR_materials_clearcoat";
+        m.clearcoat_texture = layer_texture(L, *e, "clearcoatTexture", c_at, base, copies, true);
+        m.clearcoat_roughness_texture = layer_texture(L, *e, "clearcoatRoughnessTexture", c_at, base, copies, true);
+        if (extension_texture(*e, "clearcoatNormalTexture").index >= 0)
+            L.warn_once(c_at + "/clearcoatNormalTexture",
+                        c_at +
+                            "/clearcoatNormalTexture: a clearcoat normal map is not supported; the coat uses the "
+                            "base's shading normal");
+    }
+    if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_sheen");
+        e && mr->has(MetallicRoughness::kSheen)) {
+        const std::string s_at = at + "/extensions/KHR_materials_sheen";
+        m.sheen_color_texture = layer_texture(L, *e, "sheenColorTexture", s_at, base, copies, false);          // sRGB
+        m.sheen_roughness_texture = layer_texture(L, *e, "sheenRoughnessTexture", s_at, base, copies, false);  // A
+    }
+}
+
 // Emission: emissiveFactor x KHR_materials_emissive_strength (x emissiveTexture).
 void set_emission(Loader& L, const tinygltf::Material& gm, const std::string& at, const BaseColor& base, Material& m) {
     vec3 e(0.f);
@@ -319,6 +398,7 @@ void Loader::convert_materials() {
         if (base.texture != kNoIndex) base_uv[mi] = base.uv;
         m.bsdf = gltf_bsdf(g);
         set_linear_textures(*this, gm, at, base, linear_copies, m);
+        set_layer_textures(*this, gm, at, base, linear_copies, m);
         set_emission(*this, gm, at, base, m);
         m.two_sided_emission = gm.doubleSided;
         scene->materials.push_back(std::move(m));

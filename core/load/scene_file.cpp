@@ -120,7 +120,8 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
     const json& o =
         r.object(j, at,
                  {"type", "base_color", "specular", "roughness", "ior", "emission", "metallic", "transmission",
-                  "specular_factor", "thin_walled", "attenuation_color", "attenuation_distance"});
+                  "specular_factor", "thin_walled", "attenuation_color", "attenuation_distance", "clearcoat",
+                  "clearcoat_roughness", "sheen_color", "sheen_roughness"});
     BsdfParams p = bsdf_params(m.bsdf);
     if (o.contains("type")) {
         const std::string type = r.string(o["type"], at / "type");
@@ -142,6 +143,12 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
         p.attenuation_color = r.vec(o["attenuation_color"], at / "attenuation_color", 0.f, 1.f);
     if (o.contains("attenuation_distance"))
         p.attenuation_distance = r.number(o["attenuation_distance"], at / "attenuation_distance", 1e-6f, kBig);
+    if (o.contains("clearcoat")) p.clearcoat = r.number(o["clearcoat"], at / "clearcoat", 0.f, 1.f);
+    if (o.contains("clearcoat_roughness"))
+        p.clearcoat_roughness = r.number(o["clearcoat_roughness"], at / "clearcoat_roughness", 0.f, 1.f);
+    if (o.contains("sheen_color")) p.sheen_color = r.vec(o["sheen_color"], at / "sheen_color", 0.f, 1.f);
+    if (o.contains("sheen_roughness"))
+        p.sheen_roughness = r.number(o["sheen_roughness"], at / "sheen_roughness", 0.f, 1.f);
     if (o.contains("emission")) m.emission = r.vec(o["emission"], at / "emission", 0.f, kBig);
     // A mirror's reflectance is its "specular" colour when given (the MTL's Ks), else its base colour.
     if (p.type == BsdfType::Mirror && o.contains("specular")) p.base = p.specular;

@@ -70,6 +70,12 @@ void hash_material(Hasher& h, const Material& m) {
                 h.value(uint8_t(b.thin_walled));
                 h.value(b.attenuation_color);
                 h.value(b.attenuation_distance);
+                if (b.layered()) {  // clearcoat and sheen: unlayered materials hash as before
+                    h.value(b.clearcoat);
+                    h.value(b.clearcoat_roughness);
+                    h.value(b.sheen_color);
+                    h.value(b.sheen_roughness);
+                }
             }
         },
         m.bsdf);
@@ -81,6 +87,12 @@ void hash_material(Hasher& h, const Material& m) {
     if (m.normal_texture != kNoIndex) {                                                   // glTF only
         h.value(m.normal_texture);
         h.value(m.normal_scale);
+    }
+    if (m.has_layer_textures()) {  // glTF clearcoat and sheen textures only
+        h.value(m.clearcoat_texture);
+        h.value(m.clearcoat_roughness_texture);
+        h.value(m.sheen_color_texture);
+        h.value(m.sheen_roughness_texture);
     }
     if (m.emissive_texture != kNoIndex || !m.emissive_uv.is_identity()) {  // glTF only: OBJ hashes as before
         h.value(m.emissive_texture);

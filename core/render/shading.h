@@ -39,7 +39,10 @@ struct HitTextures {
     vec2 uv{0.f};                          // set when one of the textures is
     bool has_color = false;                // the triangle has vertex colours (glTF COLOR_0): color multiplies
     vec3 color{1.f};
-    bool per_hit() const { return base_color || metal_rough || has_color; }
+    // A material with clearcoat or sheen textures (Material::has_layer_textures), and the scene's textures.
+    const Material* layers = nullptr;
+    const Texture* textures = nullptr;
+    bool per_hit() const { return base_color || metal_rough || has_color || layers; }
 };
 
 // The per-hit inputs of `mat` at `hit`; uv_of() gives the hit's uv (the scene's or a packed record's: the same bits),
@@ -53,7 +56,11 @@ template <class UvOf>
     t.has_color = !s.color_indices.empty() && s.color_indices[hit.prim].x != kNoIndex;
     if (t.has_color) [[unlikely]]
         t.color = s.color_at(hit.prim, hit.u, hit.v);
-    if (t.base_color || t.metal_rough) t.uv = uv_of();
+    if (mat.has_layer_textures()) [[unlikely]] {
+        t.layers = &mat;
+        t.textures = s.textures.data();
+    }
+    if (t.base_color || t.metal_rough || t.layers) t.uv = uv_of();
     return t;
 }
 inline HitTextures hit_textures(const Scene& s, const Material& mat, const Hit& hit) {
@@ -61,7 +68,8 @@ inline HitTextures hit_textures(const Scene& s, const Material& mat, const Hit& 
 }
 
 // Applies t to `bsdf` (a copy of the material's): the base colour texel `base_texel` (t.base_color's lookup at t.uv;
-// the integrator's comes from prefetched texels), then the vertex colour, then the metallic-roughness texel.
+// the integrator's comes from prefetched texels), then the vertex colour, then the metallic-roughness texel, then the
+// clearcoat and sheen texels.
 inline void apply_hit_textures(Bsdf& bsdf, const HitTextures& t, vec4 base_texel) {
     if (t.base_color) set_base_color(bsdf, vec3(base_texel));
     if (t.has_color) multiply_base_color(bsdf, t.color);
@@ -69,6 +77,15 @@ inline void apply_hit_textures(Bsdf& bsdf, const HitTextures& t, vec4 base_texel
         if (auto* mr = std::get_if<MetallicRoughness>(&bsdf)) {
             const vec4 m = t.metal_rough->lookup(t.uv);
             apply_metallic_roughness_texel(*mr, m.z, m.y);
+        }
+    if (t.layers) [[unlikely]]
+        if (auto* mr = std::get_if<MetallicRoughness>(&bsdf)) {
+            const Material& m = *t.layers;
+            auto texel = [&](uint32_t i) { return i != kNoIndex ? t.textures[i].lookup(t.uv) : vec4(1.f); };
+            if (m.clearcoat_texture != kNoIndex || m.clearcoat_roughness_texture != kNoIndex)
+                apply_clearcoat_texel(*mr, texel(m.clearcoat_texture).x, texel(m.clearcoat_roughness_texture).y);
+            if (m.sheen_color_texture != kNoIndex || m.sheen_roughness_texture != kNoIndex)
+                apply_sheen_texel(*mr, vec3(texel(m.sheen_color_texture)), texel(m.sheen_roughness_texture).w);
         }
 }
 

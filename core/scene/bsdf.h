@@ -130,6 +130,18 @@ struct Material {
     // are scaled by normal_scale. kNoIndex: the interpolated normal (no per-hit work).
     uint32_t normal_texture = kNoIndex;
     float normal_scale = 1.f;
+    // KHR_materials_clearcoat's clearcoatTexture (linear: R scales clearcoat) and clearcoatRoughnessTexture (linear: G
+    // scales the coat's roughness), and KHR_materials_sheen's sheenColorTexture (sRGB, decoded: RGB scales the sheen
+    // colour) and sheenRoughnessTexture (linear: A scales the sheen roughness), read at the base colour's uv; they
+    // scale a MetallicRoughness BSDF's layer factors (apply_clearcoat_texel, apply_sheen_texel). kNoIndex: the factor.
+    uint32_t clearcoat_texture = kNoIndex;
+    uint32_t clearcoat_roughness_texture = kNoIndex;
+    uint32_t sheen_color_texture = kNoIndex;
+    uint32_t sheen_roughness_texture = kNoIndex;
+    bool has_layer_textures() const {
+        return clearcoat_texture != kNoIndex || clearcoat_roughness_texture != kNoIndex ||
+               sheen_color_texture != kNoIndex || sheen_roughness_texture != kNoIndex;
+    }
     bool has_emission() const { return !is_black(emission); }
 };
 

@@ -7,6 +7,7 @@
 #include "core/scene/ggx_albedo_table.h"
 #include "core/scene/ggx_dielectric_table.h"
 #include "core/scene/microfacet.h"
+#include "core/scene/sheen.h"
 
 namespace pv {
 namespace {
@@ -145,6 +146,46 @@ vec3 ms_weight(const MetallicRoughness& b, const Layer& l) {
 bool has_ms(const MetallicRoughness& b) {
     return b.alpha > 0.f && (b.has(MetallicRoughness::kMetal) || b.has(MetallicRoughness::kSpecular));
 }
+// KHR_materials_clearcoat's coat: GGX reflection of alpha coat_alpha (a delta lobe at 0) weighted by
+// clearcoat x the exact Fresnel of the coat's fixed IOR 1.5 (f0 = 0.04, the extension's). Its directional albedo
+// e_c(mu) = f0 E(mu) + (1 - f0) E_x(mu) comes from the dielectric table at IOR 1.5 (between its nodes 1.4 and 1.53),
+// as the dielectric layer's does; smooth: F(mu) exactly.
+constexpr float kCoatIor = 1.5f, kCoatF0 = 0.04f;
+constexpr float kCoatIorNode = (kCoatIor - 1.f) * 0.5f * float(kGgxDielectricIorN - 1);
+constexpr int kCoatK0 = int(kCoatIorNode);
+constexpr float kCoatKt = kCoatIorNode - float(kCoatK0);
+float coat_albedo(const MR& b, float mu) {
+    const float f = fresnel_dielectric(mu, kCoatIor);
+    if (b.coat_alpha == 0.f) return f;
+    const float e = ggx_albedo(mu, b.coat_alpha);
+    const float x = glm::clamp((f - kCoatF0) / (1.f - kCoatF0), 0.f, 1.f);
+    const float ex = e * x + glm::mix(residual_lookup(kGgxDielectricAlbedo[kCoatK0], mu, b.coat_alpha),
+                                      residual_lookup(kGgxDielectricAlbedo[kCoatK0 + 1], mu, b.coat_alpha), kCoatKt);
+    return glm::clamp(kCoatF0 * e + (1.f - kCoatF0) * ex, 0.f, 1.f);
+}
+
+// The layers over the base at wo (core/scene/bsdf_pbr.h): the coat reflects clearcoat e_c(mu_o) and passes the rest
+// to the sheen, which reflects sheen_color E_s(mu_o) of it and passes 1 - max(sheen_color) E_s(mu_o) to the base
+// (albedo scaling by the view direction's albedo: with a white base the three sum to 1 at every mu_o).
+struct Layers {
+    float coat = 0.f;   // clearcoat e_c(mu_o): what the coat reflects
+    float sheen = 0.f;  // max(sheen_color) E_s(mu_o)
+    float e_sheen = 0.f;
+    float under_coat = 1.f;  // 1 - coat: the sheen's and the base's weight
+    float under = 1.f;       // (1 - coat)(1 - sheen): the base's weight
+};
+Layers layers_at(const MR& b, float cos_o) {
+    Layers l;
+    if (b.has(MR::kClearcoat)) l.coat = b.clearcoat * coat_albedo(b, cos_o);
+    if (b.has(MR::kSheen)) {
+        l.e_sheen = sheen_albedo(cos_o, b.sheen_alpha);
+        l.sheen = max_component(b.sheen_color) * l.e_sheen;
+    }
+    l.under_coat = 1.f - l.coat;
+    l.under = l.under_coat * (1.f - l.sheen);
+    return l;
+}
+
 // wo and wi seen from wo's side (wo.z >= 0), and the relative IOR there.
 struct Side {
     vec3 wo, wi;
@@ -159,15 +200,18 @@ Side side_of(const MR& b, vec3 wo, vec3 wi) {
     }
     return {wo, wi, b.solid() && flipped ? 1.f / b.ior : b.ior, flipped};
 }
+// The coat and sheen lie on the outside: every side of a two-sided (opaque or thin) material, not a solid one's inside.
+bool layers_apply(const MR& b, const Side& s) { return b.layered() && !(s.flipped && b.solid()); }
 
 // Lobe selection probabilities for wo (cos_o > 0): reflection (dielectric specular + metal, one GGX distribution),
 // the metal's multiple scattering (its albedo), diffuse, transmission, in proportion to the luminance of each lobe's
 // weight at normal-ish incidence; a present lobe has at least a small probability, so that sample() reaches wherever
 // eval() is nonzero.
 struct LobeProbs {
+    float c = 0.f, s = 0.f;  // the coat and the sheen (layered materials only)
     float r = 0.f, m = 0.f, d = 0.f, t = 0.f;
 };
-LobeProbs lobe_probs(const MR& b, const Layer& l, float cos_o, float eta) {
+LobeProbs lobe_probs(const MR& b, const Layer& l, float cos_o, float eta, const Layers* layers) {
     constexpr float kFloor = 1e-3f;
     LobeProbs p;
     const vec3 fl = l.present ? layer_albedo(b, l, cos_o, eta) : vec3(0.f);
@@ -176,9 +220,20 @@ LobeProbs lobe_probs(const MR& b, const Layer& l, float cos_o, float eta) {
     if (b.has(MR::kDiffuse)) p.d = glm::max((1.f - b.transmission) * base, kFloor);
     if (b.has(MR::kTransmission)) p.t = glm::max(b.transmission * base, kFloor);
     if (has_ms(b)) p.m = luminance(ms_weight(b, l)) * kPi * (1.f - ggx_albedo(cos_o, b.alpha));
-    const float sum = p.r + p.m + p.d + p.t;
+    if (layers) {  // the base's lobes as much as reaches the base; the coat and sheen by their albedos
+        const float under = glm::max(layers->under, kFloor);
+        p.r *= under;
+        p.m *= under;
+        p.d *= under;
+        p.t *= under;
+        if (b.has(MR::kClearcoat)) p.c = glm::max(layers->coat, kFloor);
+        if (b.has(MR::kSheen)) p.s = glm::max(layers->under_coat * luminance(b.sheen_color) * layers->e_sheen, kFloor);
+    }
+    const float sum = p.c + p.s + p.r + p.m + p.d + p.t;
     if (!(sum > 0.f)) return LobeProbs{};
     const float inv = 1.f / sum;
+    p.c *= inv;
+    p.s *= inv;
     p.r *= inv;
     p.m *= inv;
     p.d *= inv;
@@ -225,7 +280,10 @@ vec3 eval_side(const MR& b, const Layer& l, const Side& s, float* pdf_out) {
     float pdf = 0.f;
     vec3 f(0.f);
     if (wo.z > 0.f) {
-        const LobeProbs p = pdf_out ? lobe_probs(b, l, wo.z, s.eta) : LobeProbs{};  // eval() needs no pdf
+        const bool layered = layers_apply(b, s);
+        const Layers layers = layered ? layers_at(b, wo.z) : Layers{};
+        const LobeProbs p =
+            pdf_out ? lobe_probs(b, l, wo.z, s.eta, layered ? &layers : nullptr) : LobeProbs{};  // eval() needs no pdf
         if (wi.z > 0.f) {
             if (b.has(MR::kDiffuse)) {
                 f += ((1.f - b.metallic) * (1.f - b.transmission) * kInvPi) * b.base_color *
@@ -262,6 +320,22 @@ vec3 eval_side(const MR& b, const Layer& l, const Side& s, float* pdf_out) {
                 }
             }
         }
+        if (layered) {
+            f *= layers.under;
+            if (wi.z > 0.f) {
+                if (b.has(MR::kSheen)) {
+                    f += (layers.under_coat * sheen_eval(wo, wi, b.sheen_alpha)) * b.sheen_color;
+                    pdf += p.s * cosine_hemisphere_pdf(wi.z);
+                }
+                if (b.has(MR::kClearcoat) && b.coat_alpha > 0.f) {
+                    float pc = 0.f;
+                    const float g = ggx_reflect_f(wo, wi, b.coat_alpha, &pc);
+                    const vec3 h = glm::normalize(wo + wi);
+                    f += vec3(b.clearcoat * fresnel_dielectric(glm::dot(wo, h), kCoatIor) * g);
+                    pdf += p.c * pc;
+                }
+            }
+        }
     }
     if (pdf_out) *pdf_out = pdf;
     return f;
@@ -279,6 +353,12 @@ void prepare_metallic_roughness(MetallicRoughness& m) {
     m.attenuation_color = unit(m.attenuation_color);
     if (!(m.ior > 0.f) || !std::isfinite(m.ior)) m.ior = 1.5f;
     if (!(m.attenuation_distance > 0.f)) m.attenuation_distance = INFINITY;
+    m.clearcoat = unit_or(m.clearcoat, 0.f);
+    m.clearcoat_roughness = unit_or(m.clearcoat_roughness, 0.f);
+    m.sheen_color = unit(m.sheen_color);
+    m.sheen_roughness = unit_or(m.sheen_roughness, 0.f);
+    m.coat_alpha = m.clearcoat_roughness == 0.f ? 0.f : glm::max(sqr(m.clearcoat_roughness), kMinAlpha);
+    m.sheen_alpha = glm::max(sqr(m.sheen_roughness), kSheenMinAlpha);
     m.alpha = m.roughness == 0.f ? 0.f : glm::max(m.roughness * m.roughness, kMinAlpha);
     const float r = (m.ior - 1.f) / (m.ior + 1.f);
     m.f0 = r * r;
@@ -288,8 +368,11 @@ void prepare_metallic_roughness(MetallicRoughness& m) {
     if (m.metallic < 1.f && m.specular > 0.f && m.f0 > 0.f) lobes |= MR::kSpecular;
     if (m.metallic > 0.f) lobes |= MR::kMetal;
     if (m.metallic < 1.f && m.transmission > 0.f) lobes |= MR::kTransmission;
+    if (m.clearcoat > 0.f) lobes |= MR::kClearcoat;
+    if (max_component(m.sheen_color) > 0.f) lobes |= MR::kSheen;
     m.lobes = lobes;
-    m.delta_only = m.alpha == 0.f && !m.has(MR::kDiffuse);
+    m.delta_only =
+        m.alpha == 0.f && !m.has(MR::kDiffuse) && !m.has(MR::kSheen) && !(m.has(MR::kClearcoat) && m.coat_alpha > 0.f);
     m.lambert_only = m.lobes == MR::kDiffuse && m.metallic == 0.f && m.transmission == 0.f;
     m.sigma = vec3(0.f);
     if (m.solid() && std::isfinite(m.attenuation_distance))
@@ -301,6 +384,18 @@ void apply_metallic_roughness_texel(MetallicRoughness& m, float metallic, float 
     m.metallic *= unit_or(metallic, 1.f);
     m.roughness *= unit_or(roughness, 1.f);
     if (m.alpha > 0.f) m.alpha = glm::max(m.roughness * m.roughness, kMinAlpha);
+}
+
+void apply_clearcoat_texel(MetallicRoughness& m, float clearcoat, float roughness) {
+    m.clearcoat *= unit_or(clearcoat, 1.f);
+    m.clearcoat_roughness *= unit_or(roughness, 1.f);
+    if (m.coat_alpha > 0.f) m.coat_alpha = glm::max(sqr(m.clearcoat_roughness), kMinAlpha);
+}
+
+void apply_sheen_texel(MetallicRoughness& m, vec3 color, float roughness) {
+    m.sheen_color *= unit(color);
+    m.sheen_roughness *= unit_or(roughness, 1.f);
+    m.sheen_alpha = glm::max(sqr(m.sheen_roughness), kSheenMinAlpha);
 }
 
 MetallicRoughness make_metallic_roughness(MetallicRoughness m) {
@@ -329,18 +424,40 @@ std::optional<BsdfSample> sample_mr(const MetallicRoughness& b, vec3 wo_in, floa
     const vec3 wo = s.wo;
     const float cos_o = wo.z;
     const Layer l = layer_of(b);
-    const LobeProbs p = lobe_probs(b, l, cos_o, s.eta);
+    const bool layered = layers_apply(b, s);
+    const Layers layers = layered ? layers_at(b, cos_o) : Layers{};
+    const LobeProbs p = lobe_probs(b, l, cos_o, s.eta, layered ? &layers : nullptr);
     const bool delta = b.alpha == 0.f;
+    // A delta lobe's f is the base's, weighted by what reaches the base (1 without layers).
     auto finish = [&](vec3 wi, vec3 f, float pdf, bool is_delta, float eta) -> std::optional<BsdfSample> {
         if (s.flipped) wi.z = -wi.z;
         if (!is_delta) f = eval_side(b, l, side_of(b, wo_in, wi), &pdf);
         if (!(pdf > 0.f) || !is_finite(f)) return std::nullopt;
         return BsdfSample{f, wi, pdf, is_delta, eta};
     };
+    if (layered) {
+        if (u_lobe < p.c) {  // the coat: GGX (visible normals) or a mirror
+            if (b.coat_alpha == 0.f) {
+                const vec3 wi(-wo.x, -wo.y, wo.z);
+                return finish(wi, vec3(b.clearcoat * fresnel_dielectric(cos_o, kCoatIor) / cos_o), p.c, true, 1.f);
+            }
+            const vec3 h = ggx_sample_visible_normal(wo, b.coat_alpha, u);
+            const vec3 wi = 2.f * glm::dot(wo, h) * h - wo;
+            if (!(wi.z > 0.f)) return std::nullopt;
+            return finish(wi, vec3(0.f), 0.f, false, 1.f);
+        }
+        if (u_lobe < p.c + p.s) {  // the sheen: cosine-distributed
+            const vec3 wi = square_to_cosine_hemisphere(u);
+            if (!(wi.z > 0.f)) return std::nullopt;
+            return finish(wi, vec3(0.f), 0.f, false, 1.f);
+        }
+        u_lobe -= p.c + p.s;  // the base's lobes below, their probabilities already scaled
+    }
+    const float under = layers.under;
     if (u_lobe < p.r) {
         if (delta) {
             const vec3 wi(-wo.x, -wo.y, wo.z);
-            return finish(wi, fresnel_reflect(b, cos_o, s.eta) / cos_o, p.r, true, 1.f);
+            return finish(wi, fresnel_reflect(b, cos_o, s.eta) * (under / cos_o), p.r, true, 1.f);
         }
         const vec3 h = ggx_sample_visible_normal(wo, b.alpha, u);
         const vec3 wi = 2.f * glm::dot(wo, h) * h - wo;
@@ -363,7 +480,7 @@ std::optional<BsdfSample> sample_mr(const MetallicRoughness& b, vec3 wo_in, floa
     if (b.thin_walled) {
         if (delta) {
             const vec3 t = vec3(1.f) - fresnel_layer(b, cos_o, s.eta);
-            return finish(-wo, tint * t / cos_o, p.t, true, 1.f);
+            return finish(-wo, tint * t * (under / cos_o), p.t, true, 1.f);
         }
         const vec3 h = ggx_sample_visible_normal(wo, b.alpha, u);
         const vec3 wr = 2.f * glm::dot(wo, h) * h - wo;
@@ -381,7 +498,7 @@ std::optional<BsdfSample> sample_mr(const MetallicRoughness& b, vec3 wo_in, floa
     if (!(wi.z < 0.f)) return std::nullopt;
     if (delta) {
         const vec3 t = vec3(1.f) - fresnel_layer(b, cos_o, eta);
-        return finish(wi, tint * t / (eta * eta * std::fabs(wi.z)), p.t, true, eta);
+        return finish(wi, tint * t * (under / (eta * eta * std::fabs(wi.z))), p.t, true, eta);
     }
     return finish(wi, vec3(0.f), 0.f, false, eta);
 }

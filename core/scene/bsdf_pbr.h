@@ -11,7 +11,18 @@
 #include "core/base/math.h"
 
 // The model:
-//   f = (1 - metallic) * dielectric + metallic * metal
+//   f = coat + (1 - clearcoat e_c(mu_o)) [sheen + (1 - max(sheen_color) E_s(mu_o)) base]       (layers: only if asked)
+//   coat  = clearcoat * F_1.5(wo.h) * GGX(coat_alpha)   (KHR_materials_clearcoat: IOR 1.5, its own roughness; a delta
+//           lobe at clearcoat roughness 0); e_c(mu) its directional albedo, from the dielectric table at IOR 1.5
+//   sheen = sheen_color * Charlie sheen (core/scene/sheen.h; KHR_materials_sheen); E_s(mu) its albedo at colour 1
+//   The layers are albedo-scaled by the view direction's albedo, as the glTF extension specifications and OpenPBR
+//   layer them: what a layer does not reflect toward the hemisphere reaches what lies beneath, so with a white base a
+//   white coat and sheen keep the furnace at 1 (tests/scene/test_bsdf_layers.cpp, WhiteFurnaceIsOne); not reciprocal
+//   (the weight reads mu_o only; the path tracer needs no reciprocity). A solid's inside sees no layer. The coat shares
+//   the base's shading normal (clearcoatNormalTexture is not supported). Lobe choice: the coat by its albedo, the sheen
+//   by what of its albedo passes the coat, the base's lobes scaled by what reaches the base; the pdf is the exact
+//   mixture (the coat: visible-normal GGX; the sheen: cosine).
+//   base = (1 - metallic) * dielectric + metallic * metal
 //   metal      = GGX reflection, Schlick Fresnel toward base_color:  F_m(c) = C + (1 - C)(1 - c)^5, c = wo.h
 //              + Kulla-Conty multiple scattering  F_add,m (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg))
 //   dielectric = GGX reflection weighted by F(wo.h)
@@ -65,9 +76,15 @@ struct MetallicRoughness {
     bool thin_walled = true;   // KHR_materials_volume thickness 0 -> thin
     vec3 attenuation_color{1.f};
     float attenuation_distance = INFINITY;
+    float clearcoat = 0.f;            // KHR_materials_clearcoat clearcoatFactor (0: no coat)
+    float clearcoat_roughness = 0.f;  // clearcoatRoughnessFactor, perceptual: coat alpha = r^2, a delta lobe at 0
+    vec3 sheen_color{0.f};            // KHR_materials_sheen sheenColorFactor (linear; 0: no sheen)
+    float sheen_roughness = 0.f;      // sheenRoughnessFactor: sheen alpha = r^2 (>= kSheenMinAlpha)
 
     // Derived by prepare_metallic_roughness(); call it after changing any field above except base_color.
-    enum Lobe : uint8_t { kDiffuse = 1, kSpecular = 2, kMetal = 4, kTransmission = 8 };
+    enum Lobe : uint8_t { kDiffuse = 1, kSpecular = 2, kMetal = 4, kTransmission = 8, kClearcoat = 16, kSheen = 32 };
+    float coat_alpha = 0.f;   // the coat's GGX alpha; 0 when clearcoat_roughness == 0 (a delta lobe)
+    float sheen_alpha = 1.f;  // max(sheen_roughness^2, kSheenMinAlpha)
     float alpha = 1.f;        // GGX alpha; 0 when roughness == 0 (reflection and transmission are delta lobes)
     float f0 = 0.04f;         // ((ior - 1) / (ior + 1))^2
     vec3 spec_f0{0.04f};      // min(f0 * specular_color, 1), before the specular factor
@@ -81,6 +98,7 @@ struct MetallicRoughness {
     vec3 sigma{0.f};
 
     bool has(Lobe l) const { return (lobes & l) != 0; }
+    bool layered() const { return (lobes & (kClearcoat | kSheen)) != 0; }  // a coat or sheen over the base
     bool solid() const { return has(kTransmission) && !thin_walled; }
 };
 
@@ -93,6 +111,13 @@ MetallicRoughness make_metallic_roughness(MetallicRoughness m);  // prepared cop
 // delta-ness (a texel roughness of 0 on a rough material gives kMinAlpha), so that the untextured material's
 // is_delta() and oriented_eta() stay valid for the textured copy.
 void apply_metallic_roughness_texel(MetallicRoughness& m, float metallic, float roughness);
+// KHR_materials_clearcoat's clearcoatTexture (R) and clearcoatRoughnessTexture (G) texels at a hit (linear, in
+// [0, 1]; pass 1 for an absent one): scale clearcoat and clearcoat_roughness on a prepared material, keeping its lobes
+// and delta-ness as apply_metallic_roughness_texel does.
+void apply_clearcoat_texel(MetallicRoughness& m, float clearcoat, float roughness);
+// KHR_materials_sheen's sheenColorTexture (RGB, linear) and sheenRoughnessTexture (A) texels at a hit: scale
+// sheen_color and sheen_roughness on a prepared material, keeping its lobes.
+void apply_sheen_texel(MetallicRoughness& m, vec3 color, float roughness);
 
 namespace detail {
 vec3 eval_mr(const MetallicRoughness& b, vec3 wo, vec3 wi);

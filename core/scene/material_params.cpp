@@ -31,6 +31,10 @@ BsdfParams bsdf_params(const Bsdf& bsdf) {
         p.thin_walled = mr->thin_walled;
         p.attenuation_color = mr->attenuation_color;
         p.attenuation_distance = mr->attenuation_distance;
+        p.clearcoat = mr->clearcoat;
+        p.clearcoat_roughness = mr->clearcoat_roughness;
+        p.sheen_color = mr->sheen_color;
+        p.sheen_roughness = mr->sheen_roughness;
     }
     return p;
 }
@@ -66,6 +70,10 @@ Bsdf make_bsdf(const BsdfParams& p) {
             m.thin_walled = p.thin_walled;
             m.attenuation_color = p.attenuation_color;
             m.attenuation_distance = p.attenuation_distance;
+            m.clearcoat = p.clearcoat;
+            m.clearcoat_roughness = p.clearcoat_roughness;
+            m.sheen_color = p.sheen_color;
+            m.sheen_roughness = p.sheen_roughness;
             prepare_metallic_roughness(m);
             return m;
         }

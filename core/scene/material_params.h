@@ -26,6 +26,10 @@ struct BsdfParams {
     bool thin_walled = true;
     vec3 attenuation_color{1.f};
     float attenuation_distance = INFINITY;
+    float clearcoat = 0.f;  // KHR_materials_clearcoat clearcoatFactor and clearcoatRoughnessFactor
+    float clearcoat_roughness = 0.f;
+    vec3 sheen_color{0.f};  // KHR_materials_sheen sheenColorFactor and sheenRoughnessFactor
+    float sheen_roughness = 0.f;
 };
 
 // The parameters of `bsdf` (the fields its type does not use keep their defaults, except that a mirror's

@@ -347,11 +347,11 @@ TEST(GltfLoader, CamerasStartViewAndBookmarks) {
 TEST(GltfLoader, UnsupportedExtensionsRequiredAreRefusedUsedOnesWarnedOnce) {
     Gltf g;
     g.scene({g.node({{"mesh", unit_triangle(g)}})});
-    g.j["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_materials_ior", "KHR_texture_basisu"};
+    g.j["extensionsUsed"] = {"KHR_materials_iridescence", "KHR_materials_ior", "KHR_texture_basisu"};
     size_t warned = 0;
     const Scene s = load(g.text());
     for (const std::string& w : s.warnings) {
-        warned += w.find("KHR_materials_clearcoat") != std::string::npos;
+        warned += w.find("KHR_materials_iridescence") != std::string::npos;
         EXPECT_EQ(w.find("KHR_materials_ior"), std::string::npos) << w;
     }
     EXPECT_EQ(warned, 1u);
@@ -455,6 +455,72 @@ TEST(GltfLoader, MaterialsFactorsTexturesAlphaModesEmissionAndExtensions) {
     // BLEND without a texture: a constant opacity as a 1x1 cut-out texture.
     ASSERT_NE(s.materials[4].alpha_texture, kNoIndex);
     EXPECT_EQ(s.textures[s.materials[4].alpha_texture].texels()[0].w, 0.25f);
+}
+
+// KHR_materials_clearcoat and KHR_materials_sheen: their factors, their textures (clearcoat's linear data undecoded,
+// the sheen colour sRGB-decoded, the sheen roughness the alpha channel), the coat's normal map refused with a
+// warning, a layer texture with its own transform refused with a warning (the factor used), and a zero factor leaves
+// no layer at all.
+TEST(GltfLoader, ClearcoatAndSheenFactorsAndTextures) {
+    Gltf g;
+    g.j["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_materials_sheen", "KHR_texture_transform"};
+    const uint8_t px[4][4] = {{255, 128, 64, 32}, {255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}};
+    g.j["images"] = {{{"bufferView", g.view(tga_2x2(px))}, {"mimeType", "image/png"}}};
+    g.j["textures"] = {{{"source", 0}}};
+    const json moved = {{"KHR_texture_transform", {{"offset", {0.5, 0}}}}};
+    g.j["materials"] = {{{"name", "coated"},
+                         {"extensions",
+                          {{"KHR_materials_clearcoat",
+                            {{"clearcoatFactor", 0.8},
+                             {"clearcoatRoughnessFactor", 0.3},
+                             {"clearcoatTexture", {{"index", 0}}},
+                             {"clearcoatRoughnessTexture", {{"index", 0}}},
+                             {"clearcoatNormalTexture", {{"index", 0}}}}}}}},
+                        {{"name", "velvet"},
+                         {"extensions",
+                          {{"KHR_materials_sheen",
+                            {{"sheenColorFactor", {1, 0.5, 0.25}},
+                             {"sheenRoughnessFactor", 0.6},
+                             {"sheenColorTexture", {{"index", 0}}},
+                             {"sheenRoughnessTexture", {{"index", 0}, {"extensions", moved}}}}}}}},
+                        {{"name", "none"},
+                         {"extensions",
+                          {{"KHR_materials_clearcoat", {{"clearcoatFactor", 0}, {"clearcoatTexture", {{"index", 0}}}}},
+                           {"KHR_materials_sheen", {{"sheenRoughnessFactor", 0.5}}}}}}};
+    const int pos = g.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+    const int uv = g.floats({0, 0, 1, 0, 0, 1}, "VEC2", 2);
+    json roots = json::array();
+    for (int m = 0; m < 3; ++m)
+        roots.push_back(g.node({{"mesh", g.mesh({{"POSITION", pos}, {"TEXCOORD_0", uv}}, -1, -1, m)}}));
+    g.scene(roots);
+    const Scene s = load(g.glb(), "layers.glb");
+    ASSERT_EQ(s.materials.size(), 3u);
+    const auto& coated = std::get<MetallicRoughness>(s.materials[0].bsdf);
+    EXPECT_NEAR(coated.clearcoat, 0.8f, 1e-6f);
+    EXPECT_NEAR(coated.clearcoat_roughness, 0.3f, 1e-6f);
+    EXPECT_TRUE(coated.has(MetallicRoughness::kClearcoat));
+    EXPECT_FALSE(coated.has(MetallicRoughness::kSheen));
+    ASSERT_NE(s.materials[0].clearcoat_texture, kNoIndex);
+    EXPECT_EQ(s.materials[0].clearcoat_roughness_texture, s.materials[0].clearcoat_texture) << "one linear copy";
+    EXPECT_NEAR(s.textures[s.materials[0].clearcoat_texture].texels()[0].y, 128.f / 255.f, 1e-3f) << "undecoded";
+    const auto& velvet = std::get<MetallicRoughness>(s.materials[1].bsdf);
+    EXPECT_EQ(velvet.sheen_color, vec3(1.f, 0.5f, 0.25f));
+    EXPECT_NEAR(velvet.sheen_roughness, 0.6f, 1e-6f);
+    EXPECT_TRUE(velvet.has(MetallicRoughness::kSheen));
+    ASSERT_NE(s.materials[1].sheen_color_texture, kNoIndex);
+    EXPECT_NEAR(s.textures[s.materials[1].sheen_color_texture].texels()[0].y, srgb_code_to_linear(128), 1e-3f);
+    EXPECT_EQ(s.materials[1].sheen_roughness_texture, kNoIndex) << "its own transform: the factor alone";
+    const auto& none = std::get<MetallicRoughness>(s.materials[2].bsdf);
+    EXPECT_FALSE(none.layered());
+    EXPECT_FALSE(s.materials[2].has_layer_textures());
+    ASSERT_EQ(s.warnings.size(), 2u);
+    EXPECT_NE(s.warnings[0].find("/materials/0/extensions/KHR_materials_clearcoat/clearcoatNormalTexture"),
+              std::string::npos)
+        << s.warnings[0];
+    EXPECT_NE(s.warnings[1].find("/materials/1/extensions/KHR_materials_sheen/sheenRoughnessTexture: a texture "
+                                 "transform"),
+              std::string::npos)
+        << s.warnings[1];
 }
 
 // metallicRoughnessTexture: read as linear data (B metallic, G roughness), and a metallic factor of 1 with a texture

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/load/scene_file.h"
+#include "core/partial/scene_hash.h"
 #include "core/render/shading.h"
 #include "core/scene/material_params.h"
 
@@ -253,4 +254,87 @@ TEST(MaterialParams, ChangingTheTypeCarriesParametersOverByMeaning) {
     EXPECT_EQ(same.roughness, gltf.roughness);
 }
 
+}  // namespace pv
+
+// KHR_materials_clearcoat and _sheen as scene.json overrides (the viewer's sliders edit the same BsdfParams): parsed,
+// carried through bsdf_params() <-> make_bsdf() unchanged, hashed (a partial render of the coated scene is not merged
+// with one of the uncoated scene), and a bad value is one error naming the file and the key.
+namespace pv {
+TEST(MaterialParams, SceneFileClearcoatAndSheenOverride) {
+    const std::string dir = std::filesystem::path(builtin_scene_path()).parent_path().string();
+    const std::string plain_json = R"({"obj": "cornell-box.obj", "materials": {
+        "white": {"type": "metallic-roughness", "base_color": [0.9, 0.8, 0.7], "metallic": 0, "roughness": 0.5}}})";
+    const std::string json = R"({"obj": "cornell-box.obj", "materials": {
+        "white": {"type": "metallic-roughness", "base_color": [0.9, 0.8, 0.7], "metallic": 0, "roughness": 0.5,
+                  "clearcoat": 0.75, "clearcoat_roughness": 0.25, "sheen_color": [1, 0.5, 0.25],
+                  "sheen_roughness": 0.5}}})";
+    const Scene plain = load_scene_json_text(plain_json, dir + "/plain.json");
+    const Scene scene = load_scene_json_text(json, dir + "/layers.json");
+    int checked = 0;
+    for (const Material& m : scene.materials) {
+        if (m.name != "white") continue;
+        const auto& b = std::get<MetallicRoughness>(m.bsdf);
+        EXPECT_EQ(b.clearcoat, 0.75f);
+        EXPECT_EQ(b.clearcoat_roughness, 0.25f);
+        EXPECT_EQ(b.coat_alpha, 0.0625f);
+        EXPECT_EQ(b.sheen_color, vec3(1.f, 0.5f, 0.25f));
+        EXPECT_EQ(b.sheen_roughness, 0.5f);
+        EXPECT_TRUE(b.has(MetallicRoughness::kClearcoat) && b.has(MetallicRoughness::kSheen));
+        const BsdfParams p = bsdf_params(m.bsdf);
+        const MetallicRoughness again = std::get<MetallicRoughness>(make_bsdf(p));
+        EXPECT_EQ(again.clearcoat, b.clearcoat);
+        EXPECT_EQ(again.sheen_color, b.sheen_color);
+        EXPECT_EQ(again.lobes, b.lobes);
+        ++checked;
+    }
+    EXPECT_EQ(checked, 1);
+    EXPECT_NE(scene_hash(scene, scene.materials, scene.environment),
+              scene_hash(plain, plain.materials, plain.environment));
+    std::vector<Material> edited = scene.materials;
+    for (Material& m : edited)
+        if (auto* b = std::get_if<MetallicRoughness>(&m.bsdf)) {
+            b->sheen_roughness = 0.6f;
+            prepare_metallic_roughness(*b);
+        }
+    EXPECT_NE(scene_hash(scene, scene.materials, scene.environment), scene_hash(scene, edited, scene.environment));
+    const std::string bad = R"({"obj": "cornell-box.obj", "materials": {"white": {"clearcoat": 2}}})";
+    try {
+        load_scene_json_text(bad, dir + "/bad.json");
+        ADD_FAILURE() << "accepted clearcoat 2";
+    } catch (const std::exception& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("bad.json"), std::string::npos) << what;
+        EXPECT_NE(what.find("clearcoat"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+}
+
+// The clearcoat and sheen textures at a hit scale the factors (hit_bsdf): a texel of clearcoat R 0.5 and sheen
+// colour (1, 0.5, 0) with alpha 0.5 gives the material of those scaled factors.
+TEST(MaterialParams, ClearcoatAndSheenTexelsScaleTheFactors) {
+    Scene s;
+    s.textures.emplace_back(1, 1, std::vector<vec4>{vec4(0.5f, 0.25f, 0.f, 1.f)});  // clearcoat R, roughness G
+    s.textures.emplace_back(1, 1, std::vector<vec4>{vec4(1.f, 0.5f, 0.f, 0.5f)});   // sheen RGB, roughness A
+    Material m;
+    MetallicRoughness mr;
+    mr.metallic = 0.f;
+    mr.roughness = 0.5f;
+    mr.clearcoat = 0.8f;
+    mr.clearcoat_roughness = 0.4f;
+    mr.sheen_color = vec3(0.5f);
+    mr.sheen_roughness = 0.8f;
+    m.bsdf = make_metallic_roughness(mr);
+    m.clearcoat_texture = m.clearcoat_roughness_texture = 0;
+    m.sheen_color_texture = m.sheen_roughness_texture = 1;
+    HitTextures t;
+    t.layers = &m;
+    t.textures = s.textures.data();
+    ASSERT_TRUE(t.per_hit());
+    const MetallicRoughness b = std::get<MetallicRoughness>(hit_bsdf(m, t));
+    EXPECT_EQ(b.clearcoat, 0.4f);
+    EXPECT_EQ(b.clearcoat_roughness, 0.1f);
+    EXPECT_EQ(b.sheen_color, vec3(0.5f, 0.25f, 0.f));
+    EXPECT_EQ(b.sheen_roughness, 0.4f);
+    EXPECT_EQ(b.lobes, std::get<MetallicRoughness>(m.bsdf).lobes);
+}
 }  // namespace pv
