@@ -119,7 +119,7 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
     const json& o =
         r.object(j, at,
                  {"type", "base_color", "specular", "roughness", "ior", "emission", "metallic", "transmission",
-                  "specular_factor", "thin_walled", "attenuation_color", "attenuation_distance"});
+                  "specular_factor", "thin_walled", "attenuation_color", "attenuation_distance", "light_group"});
     BsdfParams p = bsdf_params(m.bsdf);
     if (o.contains("type")) {
         const std::string type = r.string(o["type"], at / "type");
@@ -142,6 +142,11 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
     if (o.contains("attenuation_distance"))
         p.attenuation_distance = r.number(o["attenuation_distance"], at / "attenuation_distance", 1e-6f, kBig);
     if (o.contains("emission")) m.emission = r.vec(o["emission"], at / "emission", 0.f, kBig);
+    if (o.contains("light_group")) {
+        m.light_group = r.string(o["light_group"], at / "light_group");
+        if (m.light_group.empty())
+            r.fail(at / "light_group", "empty; expected the name of the light group its emission belongs to");
+    }
     // A mirror's reflectance is its "specular" colour when given (the MTL's Ks), else its base colour.
     if (p.type == BsdfType::Mirror && o.contains("specular")) p.base = p.specular;
     set_bsdf(m, p);  // the one conversion (keeps a glossy material's diffuse + specular <= 1), fitted to m's textures

@@ -130,6 +130,8 @@ struct Material {
     // are scaled by normal_scale. kNoIndex: the interpolated normal (no per-hit work).
     uint32_t normal_texture = kNoIndex;
     float normal_scale = 1.f;
+    // The light group its emission is credited to (core/render/light_groups.h); empty: the material's name.
+    std::string light_group;
     bool has_emission() const { return !is_black(emission); }
 };
 
