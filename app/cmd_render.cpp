@@ -47,6 +47,8 @@ struct RenderOptions {
     bool denoise = false;           // NFOR (core/denoise/denoise_nfor.h); the raw mean is kept as the noisy.* layer
     std::string denoiser = "nfor";  // or "atrous", the viewer's interactive filter (core/denoise/denoise_atrous.h)
     std::string region;             // --region x0,y0,x1,y1: render only these pixels (core/frame/renderer.h)
+    bool light_groups = false;      // --light-groups: a LightGroup.<name> layer per light group
+    std::vector<std::string> light_gains;  // --light-gain NAME=r,g,b (repeatable): the image is the mix
 };
 
 // The scene overrides given (--environment, --sun ...) as flags, recorded in partial renders so that --resume
@@ -168,6 +170,11 @@ void start_render(Renderer& renderer, const RenderOptions& o, const RenderPlan& 
                   const std::optional<PixelRect>& region) {
     renderer.set_adaptive(plan.adaptive);
     renderer.set_region(region);
+    // Light groups: kept for --light-groups or --light-gain (docs/light-groups.md); the gains checked before the
+    // render.
+    renderer.set_light_groups(o.light_groups || !o.light_gains.empty());
+    renderer.set_light_gains(
+        parse_light_gains(o.light_gains, renderer.traceable().light_groups().names, "--light-gain"));
     renderer.restart(camera, o.common.settings, o.common.width, o.common.height);
     if (plan.resumed) {
         const uint64_t hash = scene_hash(renderer.scene(), renderer.traceable().materials(),
@@ -205,6 +212,7 @@ OutputOptions output_options(const RenderOptions& o) {
     out.denoise = o.denoise;
     out.denoiser = o.denoiser == "atrous" ? Denoiser::Atrous : Denoiser::Nfor;
     out.exposure = o.exposure;
+    out.light_groups = o.light_groups;
     return out;
 }
 
@@ -308,6 +316,10 @@ void run(RenderOptions& o) {
         parse_scene_flags(flags == part.info.end() ? "" : flags->second, o.resume, o.common);
     });
     o.common.scene = plan.scene;
+    if ((o.light_groups || !o.light_gains.empty()) && (!o.samples.empty() || !o.shard.empty() || !o.resume.empty()))
+        throw Error(std::string(o.light_groups ? "--light-groups" : "--light-gain") +
+                    ": not available with partial renders (--samples, --shard, --resume) yet; render the whole "
+                    "image with --spp");
     check_outputs(o.outs);
     check_film_memory(o.common.width, o.common.height);
     const DisplayTransform display = resolve_display(o.display, ViewTransform::Clamp);  // before the render
@@ -385,6 +397,15 @@ void add_render_command(CLI::App& app) {
                     "interactive edge-avoiding filter)")
         ->check(CLI::IsMember({"nfor", "atrous"}))
         ->capture_default_str();
+    cmd->add_flag("--light-groups", o->light_groups,
+                  "EXR outputs also hold each light group (an emissive material or its scene-file light_group, a "
+                  "glTF light, the sky, the sun; docs/light-groups.md) as a layer LightGroup.<name>.R/G/B; the "
+                  "layers add up to the image");
+    cmd->add_option("--light-gain", o->light_gains,
+                    "NAME=r,g,b or NAME=k: multiply light group NAME by this gain in the image written (repeat for "
+                    "several groups; the others keep 1); the same as scaling that light's emission, without "
+                    "rendering again")
+        ->take_all();
     cmd->callback([o] { run(*o); });
 }
 

@@ -35,7 +35,7 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
     if (compare_open) compare(facts, act);
     const bool light_open = ImGui::CollapsingHeader("Light");
     log_widget("light_header");
-    if (light_open) lighting(state, act);
+    if (light_open) lighting(state, facts, act);
     const bool camera_open = ImGui::CollapsingHeader("Camera");
     log_widget("camera_header");
     if (camera_open) {

@@ -15,6 +15,7 @@
 #include "core/scene/environment.h"
 #include "display.h"
 #include "display_transform.h"
+#include "light_mix.h"
 #include "view_log.h"
 
 namespace pv::ui {
@@ -49,6 +50,8 @@ struct ViewState {
     // The render region in image pixels (Ctrl+left drag; X or "Clear region" clears it): every sample lands inside
     // it. Nothing: the whole image. Not applied while adaptive sampling is on.
     std::optional<PixelRect> region;
+    // The live mix of the light groups (Light section; ui/light_mix.h): a change re-mixes the film, no restart.
+    std::vector<LightMixEntry> light_mix;
 };
 
 // Read-only facts the panel shows.
@@ -81,11 +84,12 @@ struct PanelActions {
     bool reset_camera = false;
     bool load_scene = false;
     bool environment_changed = false;
-    bool fill_default_sky = false;  // the dark-view hint's "default sky": the scene rebuilt with it (scene_loads.h)
-    int goto_bookmark = -1;         // index into ViewState::bookmarks
-    std::string save_bookmark;      // non-empty: save the current camera under this name
-    bool region_changed = false;    // ViewState::region set or cleared
-    CompareActions compare;         // hold B, compare views, divider, load an EXR as B
+    bool fill_default_sky = false;   // the dark-view hint's "default sky": the scene rebuilt with it (scene_loads.h)
+    int goto_bookmark = -1;          // index into ViewState::bookmarks
+    std::string save_bookmark;       // non-empty: save the current camera under this name
+    bool region_changed = false;     // ViewState::region set or cleared
+    bool light_mix_changed = false;  // ViewState::light_mix edited (or reset for new groups)
+    CompareActions compare;          // hold B, compare views, divider, load an EXR as B
 };
 
 class Panel {
@@ -104,7 +108,8 @@ private:
     void materials(ViewState& state, PanelActions& act);
     void snapshots(ViewState& state, PanelActions& act);
     void scene(ViewState& state, PanelActions& act);
-    void lighting(ViewState& state, PanelActions& act);
+    void lighting(ViewState& state, const PanelFacts& facts, PanelActions& act);
+    void light_mix(ViewState& state, const PanelFacts& facts, PanelActions& act);
     void dark_view_hint(ViewState& state, const PanelFacts& facts, PanelActions& act);
     void bookmarks(ViewState& state, PanelActions& act);
     void compare(const PanelFacts& facts, PanelActions& act);

@@ -98,7 +98,8 @@ void Panel::snapshots(ViewState& state, PanelActions& act) {
     if (!state.snapshot_status.empty()) status_text(state.snapshot_status, state.snapshot_ok);
 }
 
-void Panel::lighting(ViewState& state, PanelActions& act) {
+void Panel::lighting(ViewState& state, const PanelFacts& facts, PanelActions& act) {
+    light_mix(state, facts, act);
     EnvironmentSettings& e = state.environment;
     if (state.has_environment_map) {
         act.environment_changed |= ImGui::SliderFloat("map rotation", &e.rotation_deg, -180.f, 180.f, "%.0f deg");
@@ -147,6 +148,33 @@ void Panel::lighting(ViewState& state, PanelActions& act) {
         if (!is_finite(f.sigma_a)) f.sigma_a = vec3(0.f);
         act.environment_changed = true;
     }
+}
+
+// The light groups' live mix (docs/light-groups.md): per group an intensity, a colour, solo and mute. The film
+// keeps the groups apart, so a change re-mixes the image on display without restarting the accumulation.
+void Panel::light_mix(ViewState& state, const PanelFacts& facts, PanelActions& act) {
+    if (facts.snapshot) act.light_mix_changed |= sync_light_mix(state.light_mix, facts.snapshot->light_groups);
+    if (state.light_mix.empty()) return;
+    ImGui::TextUnformatted("Light groups (live mix, no restart)");
+    for (size_t i = 0; i < state.light_mix.size(); ++i) {
+        LightMixEntry& g = state.light_mix[i];
+        ImGui::PushID(int(i));
+        act.light_mix_changed |= ImGui::Checkbox("S", &g.solo);
+        ImGui::SameLine();
+        act.light_mix_changed |= ImGui::Checkbox("M", &g.mute);
+        ImGui::SameLine();
+        act.light_mix_changed |=
+            ImGui::ColorEdit3("##colour", &g.colour.x, ImGuiColorEditFlags_NoInputs | ImGuiColorEditFlags_Float);
+        ImGui::SameLine();
+        act.light_mix_changed |=
+            ImGui::SliderFloat(g.name.c_str(), &g.intensity, 0.f, 100.f, "%.3g", ImGuiSliderFlags_Logarithmic);
+        ImGui::PopID();
+    }
+    if (ImGui::Button("Reset mix")) {
+        for (LightMixEntry& g : state.light_mix) g = LightMixEntry{g.name};
+        act.light_mix_changed = true;
+    }
+    ImGui::Separator();
 }
 
 void Panel::camera(ViewState& state, CameraController& ctl, PanelActions& act) {

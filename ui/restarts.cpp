@@ -2,6 +2,7 @@
 #include "restarts.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "core/base/error.h"
 
@@ -62,6 +63,7 @@ void post_restart(ProgressiveRenderer& renderer, RefinementSchedule& schedule,
 void apply_controls(ProgressiveRenderer& renderer, const ViewState& state, bool minimised) {
     renderer.set_paused(state.paused || minimised);
     renderer.set_target(uint32_t(state.target_spp), double(state.target_seconds));
+    if (!state.light_mix.empty()) renderer.set_light_gains(light_mix_gains(state.light_mix));
 }
 
 void restart_on_change(ProgressiveRenderer& renderer, RefinementSchedule& schedule, const ViewState& state,
@@ -71,6 +73,19 @@ void restart_on_change(ProgressiveRenderer& renderer, RefinementSchedule& schedu
         apply_controls(renderer, state, minimised);
         log.line("control paused=%d target_spp=%d target_seconds=%g", int(state.paused), state.target_spp,
                  double(state.target_seconds));
+    }
+    if (c.act.light_mix_changed) {
+        // The live mix: the film re-mixed on display, never a restart (docs/light-groups.md).
+        const LightGains k = light_mix_gains(state.light_mix);
+        renderer.set_light_gains(k);
+        std::string gains;
+        for (size_t i = 0; i < k.size(); ++i) {
+            char buf[160];
+            std::snprintf(buf, sizeof buf, " %s=%g,%g,%g", state.light_mix[i].name.c_str(), double(k[i].x),
+                          double(k[i].y), double(k[i].z));
+            gains += buf;
+        }
+        log.line("light-mix%s", gains.c_str());
     }
     const std::string reason = restart_reason(c.act, c.camera_moved, c.resized);
     if (const auto restart = schedule.update(reason, c.now, c.since, shown.generation, shown.spp)) {

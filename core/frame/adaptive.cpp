@@ -193,6 +193,49 @@ void AdaptiveMask::combine(const Film& pilot, const Film& main, Film& out) const
             q.sum_sq[c] = n * mean * mean + (n > 1.0 ? var * n * (n - 1.0) : 0.0);
         }
     }
+    combine_groups(pilot, main, out);
+}
+
+void AdaptiveMask::combine_groups(const Film& pilot, const Film& main, Film& out) const {
+    // Light groups: each group combined with the pixel's weights, as its share of the image's sums (means a x pilot
+    // + b x main over the combined counts), so the groups still add up to the image.
+    const int groups = pilot.groups();
+    if (out.groups() != groups) out.set_groups(groups);
+    if (groups == 0 || main.groups() != groups) return;
+    std::vector<GroupSums>& og = out.mutable_group_sums();
+    const std::vector<FilmPixel>& ps = pilot.pixels();
+    const std::vector<FilmPixel>& ms = main.pixels();
+    const std::vector<FilmPixel>& o = out.pixels();
+    for (size_t i = 0; i < o.size(); ++i) {
+        const FilmPixel& p = ps[i];
+        const FilmPixel& m = ms[i];
+        const double passes = double(m_pilot_next[i]) + double(m_main_live[i]);
+        for (int g = 0; g < groups; ++g) {
+            GroupSums& q = og[i * size_t(groups) + size_t(g)];
+            const GroupSums& pg = pilot.group(i, g);
+            const GroupSums& mg = main.group(i, g);
+            if (m.n == 0 || p.n == 0 || passes == 0.0) {
+                q = m.n == 0 ? pg : mg;
+                continue;
+            }
+            const double a = double(m_pilot_next[i]) / passes, b = 1.0 - a;
+            const double n = double(o[i].n), n_even = double(o[i].n_even), n_odd = n - n_even;
+            const bool halves = p.n_even > 0 && p.n_odd() > 0 && m.n_even > 0 && m.n_odd() > 0;
+            for (int c = 0; c < 3; ++c) {
+                // combine()'s formulas, each linear in the sums, so the groups add up to the image's.
+                const double mean = a * pg.sum[c] / p.n + b * mg.sum[c] / m.n;
+                q.sum[c] = n * mean;
+                const double d = halves ? (a * pg.sum_even[c] / p.n_even + b * mg.sum_even[c] / m.n_even) -
+                                              (a * (pg.sum[c] - pg.sum_even[c]) / p.n_odd() +
+                                               b * (mg.sum[c] - mg.sum_even[c]) / m.n_odd())
+                                        : 0.0;
+                q.sum_even[c] = halves ? n_even * (mean + d * n_odd / n) : q.sum[c];
+                // The second moment per sample, weighted as the means are (for the mix's variance estimate only).
+                const double sq = a * pg.sum_sq[c] / p.n + b * mg.sum_sq[c] / m.n;
+                q.sum_sq[c] = n * sq;
+            }
+        }
+    }
 }
 
 }  // namespace pv

@@ -80,6 +80,11 @@ public:
     void prepare_pass(bool pilot, uint32_t main_pass);
     // Allocation: the image's film from the pilot and main films (see above), written over `out`.
     void combine(const Film& pilot, const Film& main, Film& out) const;
+
+private:
+    void combine_groups(const Film& pilot, const Film& main, Film& out) const;
+
+public:
     // With allocation, each pixel's next main (pilot) sample index: its count of main (pilot) samples taken; the
     // pass's worker that owns the pixel advances it.
     uint32_t& next_index(int x, int y) { return m_next[size_t(y) * size_t(m_width) + size_t(x)]; }

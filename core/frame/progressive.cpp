@@ -19,6 +19,7 @@ namespace pv {
 ProgressiveRenderer::ProgressiveRenderer(std::shared_ptr<const Scene> scene, int threads)
     : m_scene(scene), m_renderer(std::move(scene), threads) {
     m_renderer.set_keep_sky_guide(true);  // orbiting does not retrain the sky guide (Renderer::set_keep_sky_guide)
+    m_renderer.set_light_groups(true);    // the panel's live mix (no memory when the scene has one group)
     m_thread = std::thread([this] { drive(); });
 }
 
@@ -173,12 +174,13 @@ void ProgressiveRenderer::drive() {
     RenderRequest request;
     for (;;) {
         bool is_new = false, make_partial = false;
+        std::optional<LightGains> gains;
         {
             std::unique_lock<std::mutex> lock(m_mutex);
             m_wake.wait(lock, [&] {
                 return m_quit || m_pending ||
-                       (has_request &&
-                        (should_render() || partial_due() || ((denoise_due() || nfor_due()) && !m_pending)));
+                       (has_request && (should_render() || partial_due() || m_gains_pending ||
+                                        ((denoise_due() || nfor_due()) && !m_pending)));
             });
             if (m_quit) return;
             if (m_pending) {
@@ -191,6 +193,8 @@ void ProgressiveRenderer::drive() {
                 has_request = is_new = true;
             }
             make_partial = has_request && !m_pending && m_partial_requested;
+            gains = std::move(m_gains_pending);
+            m_gains_pending.reset();
         }
         if (is_new) {
             if (!request.materials.empty()) m_renderer.set_materials(request.materials);
@@ -200,6 +204,20 @@ void ProgressiveRenderer::drive() {
             m_renderer.set_region(request.region);
             m_renderer.restart(request.camera, request.settings, request.width, request.height);
             m_error_history.clear();
+        }
+        if (gains) {
+            // A new mix: the film as it is, re-published (and denoised again) without a pass.
+            m_renderer.set_light_gains(std::move(*gains));
+            m_denoised_generation = 0;
+            m_nfor_generation = 0;
+            if (!is_new && m_renderer.stats().spp > 0) {
+                bool reached;
+                {
+                    std::lock_guard<std::mutex> lock(m_mutex);
+                    reached = target_reached();
+                }
+                publish(generation, reached, /*force_denoise=*/true);
+            }
         }
         // Between passes the film holds whole passes only; a new accumulation gets its first pass first.
         if (make_partial && m_renderer.stats().spp > 0) {
@@ -300,7 +318,7 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
         m_denoised_generation = 0;
         return;
     }
-    const Film& film = m_renderer.film();
+    const Film& film = shown_film();
     const uint32_t spp = m_renderer.stats().spp;
     const auto now = std::chrono::steady_clock::now();
     // At most a third of the driver's time goes to the filter while rendering; always when stopped or forced.
@@ -342,7 +360,7 @@ void ProgressiveRenderer::update_denoised(uint64_t generation, bool force) {
 }
 
 void ProgressiveRenderer::run_nfor(uint64_t generation) {
-    const Film& film = m_renderer.film();
+    const Film& film = shown_film();
     const uint32_t spp = m_renderer.stats().spp;
     const auto start = std::chrono::steady_clock::now();
     // The features and the filter of `pathview render --denoise` (core/frame/render_output.h): what it would write.
@@ -364,11 +382,24 @@ void ProgressiveRenderer::run_nfor(uint64_t generation) {
     publish(generation, reached);
 }
 
+const Film& ProgressiveRenderer::shown_film() {
+    if (gains_identity(m_renderer.light_gains())) return m_renderer.film();
+    m_renderer.film().mixed_into(m_renderer.light_gains(), m_mixed);
+    return m_mixed;
+}
+
+void ProgressiveRenderer::set_light_gains(LightGains gains) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    m_gains_pending = std::move(gains);
+    m_nfor_cancel.store(true);
+    m_wake.notify_all();
+}
+
 void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool force_denoise) {
     update_denoised(generation, force_denoise || target_reached);
     if (m_cancel.load()) return;  // superseded meanwhile: the driver takes the new request next
     // Fill the back buffer outside any lock, then swap it in: the UI's copy never waits for this loop.
-    const Film& film = m_renderer.film();
+    const Film& film = shown_film();
     const RenderStats& st = m_renderer.stats();
     Snapshot& s = m_back;
     s.generation = generation;
@@ -385,6 +416,8 @@ void ProgressiveRenderer::publish(uint64_t generation, bool target_reached, bool
     s.target_reached = target_reached;
     s.sky_guide = m_renderer.sky_guide_status();
     s.region = m_renderer.region();
+    s.light_groups.clear();
+    if (m_renderer.light_group_count() > 0) s.light_groups = m_renderer.traceable().light_groups().names;
     s.active_fraction = 1.0;
     s.seconds_to_threshold = -1.0;
     if (const AdaptiveSettings& a = m_renderer.adaptive_settings(); a.enabled()) {

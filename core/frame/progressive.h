@@ -45,6 +45,11 @@ public:
     // Stops rendering (target_reached) once spp >= target_spp or seconds >= target_seconds, or once every pixel has
     // reached the request's noise threshold; 0 = no target.
     void set_target(uint32_t target_spp, double target_seconds);
+    // Light groups (docs/light-groups.md): the driver keeps them (Renderer::set_light_groups) and publishes the
+    // film as mixed with these gains (the snapshot's image, error estimate and denoised image); never restarts or
+    // touches the accumulation: the mix is re-published after the pass in flight, at once while stopped. Cancels
+    // NFOR in flight (its image was of the old mix).
+    void set_light_gains(LightGains gains);
 
     // Copies the latest snapshot into `out` if its serial is newer than out.serial; returns whether it did.
     bool latest(Snapshot& out) const;
@@ -85,6 +90,9 @@ private:
     // On the driver thread, once stopped: NFOR of the film (features, then the filter), published unless cancelled.
     void run_nfor(uint64_t generation);
     double seconds_to_threshold(float threshold) const;
+    // The film as shown: the renderer's, or m_mixed holding its mix with the light gains (driver thread).
+    const Film& shown_film();
+    Film m_mixed;
 
     std::shared_ptr<const Scene> m_scene;
     Renderer m_renderer;  // used by the driver thread only, apart from its read-only BVH and scene
@@ -100,6 +108,7 @@ private:
     bool m_quit = false;
     bool m_partial_requested = false;
     bool m_denoise = false;
+    std::optional<LightGains> m_gains_pending;  // set_light_gains, until the driver takes it
     uint32_t m_target_spp = 0;
     double m_target_seconds = 0.0;
     std::function<void()> m_on_publish;

@@ -36,7 +36,18 @@ struct OutputOptions {
     bool denoise = false;  // the denoised image as the main one, the raw mean as the noisy.* layer
     Denoiser denoiser = Denoiser::Nfor;
     float exposure = 0.f;  // stops, applied to the image and the noisy layer
+    // Light groups (docs/light-groups.md): the image is the renderer's mix (Renderer::light_gains); with
+    // light_groups, each group the film keeps is also a layer LightGroup.<name>.R/G/B (times its gain and the
+    // exposure, so the layers add up to the image).
+    bool light_groups = false;
 };
+
+// "NAME=r,g,b" or "NAME=k" for each of `specs` into gains for the groups `names` (1 for a group not named);
+// throws pv::Error naming `what` for a malformed spec, a negative or non-finite gain or a name not in `names`.
+LightGains parse_light_gains(const std::vector<std::string>& specs, const std::vector<std::string>& names,
+                             const std::string& what);
+// A group's name as an EXR layer name: characters other than letters, digits, '_' and '-' become '_'.
+std::string light_group_layer_name(const std::string& name);
 
 // What is written: the image (denoised with `denoise`, exposed), its EXR layers (RGB first) and metadata.
 struct RenderOutput {

@@ -86,6 +86,8 @@ void Renderer::restart(const CameraDesc& camera, const RenderSettings& settings,
     // Allocation: the pilot and main films, which m_film combines (core/frame/adaptive.h); nothing without it.
     m_pilot.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);
     m_main.reset(m_adaptive.allocate ? width : 0, m_adaptive.allocate ? height : 0);
+    const int groups = m_light_groups_next ? m_traceable->light_groups().count() : 0;
+    for (Film* f : {&m_film, &m_pilot, &m_main}) f->set_groups(groups);
     m_main_passes = 0;
     m_stats = RenderStats{};
     m_next_sample = 0;
@@ -125,8 +127,9 @@ struct PassJob {
     const uint8_t* active;  // adaptive sampling's mask (nothing: every pixel)
     PixelRect region;
     int w, tiles_x;
-    uint32_t index;         // the pass's sample index (without allocation)
-    uint32_t first_sample;  // the accumulation's first index (with it)
+    uint32_t index;             // the pass's sample index (without allocation)
+    uint32_t first_sample;      // the accumulation's first index (with it)
+    const LightGroups* groups;  // the film's light groups (nullptr: none)
     bool own_index, pilot;
     int in_flight;
 
@@ -154,6 +157,8 @@ struct PassJob {
                            : pilot    ? first_sample + mask.pilot_index(x, y)++
                                       : first_sample + mask.next_index(x, y)++;
                 s.walker.start(ts, settings, camera_ray(camera, s.sampler, x, y, s.sample), s.sampler);
+                if (groups) [[unlikely]]
+                    s.walker.group_by(groups);
                 return s.busy = true;
             }
             return s.busy = false;
@@ -167,7 +172,9 @@ struct PassJob {
                 const PathCounters& c = s.walker.counters();
                 tt.counters += c;
                 if (pilot) mask.add_rays(s.x, s.y, c.rays + c.shadow_rays);
-                if (!film.add(s.x, s.y, s.sample, s.walker.radiance())) tt.dropped++;
+                const bool added = groups ? film.add(s.x, s.y, s.sample, s.walker.radiance(), s.walker.group_radiance())
+                                          : film.add(s.x, s.y, s.sample, s.walker.radiance());
+                if (!added) tt.dropped++;
                 if (!start_next(s)) --busy;
             }
     }
@@ -191,13 +198,18 @@ bool Renderer::render_pass(const std::atomic<bool>* cancel) {
     if (own_index) m_mask.prepare_pass(pilot, m_main_passes + 1);
     const int w = m_film.width(), h = m_film.height();
     const int tiles_x = (w + kTile - 1) / kTile, tiles_y = (h + kTile - 1) / kTile;
-    const PassJob job{*m_traceable,   m_settings,
-                      m_camera,       !own_index ? m_film : pilot ? m_pilot : m_main,
-                      m_mask,         m_adaptive.masks() ? m_mask.mask().data() : nullptr,
-                      m_region,       w,
-                      tiles_x,        m_next_sample,
-                      m_first_sample, own_index,
-                      pilot,          m_paths_in_flight};
+    // The groups as the film keeps them (an edit since the restart that changed their count: none until the next).
+    const LightGroups* groups = m_film.groups() > 0 && m_film.groups() == m_traceable->light_groups().count()
+                                    ? &m_traceable->light_groups()
+                                    : nullptr;
+    const PassJob job{*m_traceable,     m_settings,
+                      m_camera,         !own_index ? m_film : pilot ? m_pilot : m_main,
+                      m_mask,           m_adaptive.masks() ? m_mask.mask().data() : nullptr,
+                      m_region,         w,
+                      tiles_x,          m_next_sample,
+                      m_first_sample,   groups,
+                      own_index,        pilot,
+                      m_paths_in_flight};
     const uint32_t seed = pilot ? pilot_seed(m_settings.seed) : m_settings.seed;
     std::vector<TileTotals> totals(size_t(tiles_x) * size_t(tiles_y));
     std::atomic<bool> cancelled{false};
@@ -234,12 +246,16 @@ void Renderer::finish_pass(const TileTotals& totals, bool pilot, std::chrono::st
     m_next_sample++;
     if (m_adaptive.allocate) {
         if (pilot)
-            m_mask.update_weights(m_pilot, m_adaptive);
+            m_mask.update_weights(gains_identity(m_gains) ? m_pilot : m_pilot.mixed(m_gains), m_adaptive);
         else
             ++m_main_passes;
         m_mask.combine(m_pilot, m_main, m_film);
     }
-    m_mask.update(m_film, m_stats.spp, m_adaptive);
+    // Adaptive sampling measures the image as mixed (the film itself without gains).
+    if (gains_identity(m_gains) || !m_adaptive.enabled())
+        m_mask.update(m_film, m_stats.spp, m_adaptive);
+    else
+        m_mask.update(mixed_film(), m_stats.spp, m_adaptive);
     m_stats.last_pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     m_stats.seconds += m_stats.last_pass_seconds;
 }

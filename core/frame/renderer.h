@@ -106,6 +106,19 @@ public:
     bool render_pass(const std::atomic<bool>* cancel = nullptr);
 
     const Film& film() const { return m_film; }
+
+    // Light groups (core/render/light_groups.h, docs/light-groups.md): with them on, from the next restart() the
+    // film keeps each group's sums beside the image's (when the scene has more than one group; the image is the
+    // same, bit for bit). Off by default: no memory, no cost.
+    void set_light_groups(bool on) { m_light_groups_next = on; }
+    // The groups the film keeps (0: none).
+    int light_group_count() const { return m_film.groups(); }
+    // Gains per group for the mixed image (Film::mixed); adaptive sampling then measures the mix. Any time between
+    // passes; no restart.
+    void set_light_gains(LightGains gains) { m_gains = std::move(gains); }
+    const LightGains& light_gains() const { return m_gains; }
+    // The film of the image as mixed with the gains (the film itself with every gain 1).
+    Film mixed_film() const { return m_film.mixed(m_gains); }
     // With allocation, the pilot and main samples' own films (empty without it).
     const Film& pilot_film() const { return m_pilot; }
     const Film& main_film() const { return m_main; }
@@ -141,6 +154,8 @@ private:
     Camera m_camera;
     Film m_film;           // the image's accumulation (with allocation: m_pilot and m_main combined)
     Film m_pilot, m_main;  // allocation: the pilot and main samples (core/frame/adaptive.h); 0x0 without it
+    bool m_light_groups_next = false;
+    LightGains m_gains;
     uint32_t m_main_passes = 0;
     AdaptiveSettings m_adaptive, m_adaptive_next;
     AdaptiveMask m_mask;

@@ -46,7 +46,8 @@ struct Snapshot {
     // Adaptive sampling: the fraction of pixels still taking samples (1 without it), and the estimated seconds of
     // rendering left until every pixel reaches the noise threshold (< 0: unknown), from a log-log fit of the worst
     // active pixel's filtered error against samples over the last checkpoints, at the current pass time.
-    std::string sky_guide;  // Renderer::sky_guide_status()
+    std::string sky_guide;                  // Renderer::sky_guide_status()
+    std::vector<std::string> light_groups;  // the light groups the film keeps (none: one group), for the live mix
     double active_fraction = 1.0;
     double seconds_to_threshold = -1.0;
     // With set_denoise(true): the a-trous denoised mean (core/denoise/denoise_atrous.h) of this accumulation at

@@ -9,6 +9,66 @@ void Film::reset(int width, int height) {
     m_width = width;
     m_height = height;
     m_pixels.assign(size_t(width) * size_t(height), FilmPixel{});
+    m_group_sums.assign(m_groups > 0 ? m_pixels.size() * size_t(m_groups) : 0, GroupSums{});
+}
+
+void Film::set_groups(int count) {
+    m_groups = count > 1 ? count : 0;
+    m_group_sums.assign(m_groups > 0 ? m_pixels.size() * size_t(m_groups) : 0, GroupSums{});
+}
+
+void Film::add_groups(size_t i, bool even, const vec3* group_L) {
+    GroupSums* g = &m_group_sums[i * size_t(m_groups)];
+    for (int k = 0; k < m_groups; ++k) {
+        const vec3 l = group_L[k];
+        if (l == vec3(0.f)) continue;  // most samples reach few groups
+        for (int c = 0; c < 3; ++c) {
+            const double v = l[c];
+            g[k].sum[c] += v;
+            g[k].sum_sq[c] += v * v;
+            if (even) g[k].sum_even[c] += v;
+        }
+    }
+}
+
+Image Film::group_mean(int g) const {
+    Image out(m_width, m_height);
+    if (g < 0 || g >= m_groups) return out;
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        const double inv = m_pixels[i].n ? 1.0 / m_pixels[i].n : 0.0;
+        const GroupSums& s = group(i, g);
+        for (int c = 0; c < 3; ++c) out.rgb[i * 3 + c] = static_cast<float>(s.sum[c] * inv);
+    }
+    return out;
+}
+
+void Film::mixed_into(const LightGains& gains, Film& out) const {
+    out.m_width = m_width;
+    out.m_height = m_height;
+    out.m_groups = 0;
+    out.m_group_sums.clear();
+    out.m_pixels = m_pixels;
+    const int n = std::min(m_groups, int(gains.size()));
+    if (n == 0 || gains_identity(gains)) return;
+    for (size_t i = 0; i < m_pixels.size(); ++i) {
+        const FilmPixel& p = m_pixels[i];
+        FilmPixel& q = out.m_pixels[i];
+        for (int c = 0; c < 3; ++c) {
+            double sum = p.sum[c], even = p.sum_even[c], own_sq = 0.0, own_sq_mixed = 0.0;
+            for (int g = 0; g < m_groups; ++g) {
+                const GroupSums& s = group(i, g);
+                const double k = g < n ? double(gains[size_t(g)][c]) : 1.0;
+                sum += (k - 1.0) * s.sum[c];
+                even += (k - 1.0) * s.sum_even[c];
+                own_sq += s.sum_sq[c];
+                own_sq_mixed += k * k * s.sum_sq[c];
+            }
+            const double ratio = p.sum[c] > 0.0 ? sum / p.sum[c] : 1.0;
+            q.sum[c] = std::max(0.0, sum);
+            q.sum_even[c] = std::max(0.0, even);
+            q.sum_sq[c] = own_sq_mixed + std::max(0.0, p.sum_sq[c] - own_sq) * ratio * ratio;
+        }
+    }
 }
 
 Film Film::from_pixels(int width, int height, std::vector<FilmPixel> pixels) {
@@ -17,6 +77,15 @@ Film Film::from_pixels(int width, int height, std::vector<FilmPixel> pixels) {
     f.m_width = width;
     f.m_height = height;
     f.m_pixels = std::move(pixels);
+    return f;
+}
+
+Film Film::from_pixels(int width, int height, std::vector<FilmPixel> pixels, int groups,
+                       std::vector<GroupSums> group_sums) {
+    Film f = from_pixels(width, height, std::move(pixels));
+    assert(groups > 1 && group_sums.size() == f.m_pixels.size() * size_t(groups));
+    f.m_groups = groups;
+    f.m_group_sums = std::move(group_sums);
     return f;
 }
 
@@ -33,6 +102,13 @@ void Film::merge(const Film& other) {
         a.n += b.n;
         a.n_even += b.n_even;
     }
+    assert(other.m_groups == m_groups);
+    for (size_t i = 0; i < m_group_sums.size() && i < other.m_group_sums.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            m_group_sums[i].sum[c] += other.m_group_sums[i].sum[c];
+            m_group_sums[i].sum_sq[c] += other.m_group_sums[i].sum_sq[c];
+            m_group_sums[i].sum_even[c] += other.m_group_sums[i].sum_even[c];
+        }
 }
 
 void Film::mean_into(Image& out) const {

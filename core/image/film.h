@@ -51,6 +51,21 @@ struct Image {
     }
 };
 
+// One light group's sums in one pixel (core/render/light_groups.h): the samples' contributions from that group's
+// lights, over the pixel's accepted samples (FilmPixel::n, n_even).
+struct GroupSums {
+    double sum[3] = {0, 0, 0};
+    double sum_sq[3] = {0, 0, 0};
+    double sum_even[3] = {0, 0, 0};
+};
+
+// Per-group gains (linear RGB multipliers, >= 0): the mixed image is the sum over groups of gain x group.
+using LightGains = std::vector<vec3>;
+// True when every gain is 1 (the mix is the image itself); an empty list is the identity.
+inline bool gains_identity(const LightGains& gains) {
+    return std::all_of(gains.begin(), gains.end(), [](vec3 k) { return k == vec3(1.f); });
+}
+
 // One pixel's term of Film::estimated_rel_mse(), averaged over channels; nothing while a half buffer is empty.
 std::optional<double> pixel_rel_mse(const FilmPixel& px);
 
@@ -58,6 +73,7 @@ class Film {
 public:
     Film() = default;
     Film(int width, int height) { reset(width, height); }
+    // Clears every sum (the light groups' too, keeping their count).
     void reset(int width, int height);
 
     int width() const { return m_width; }
@@ -78,6 +94,36 @@ public:
         px.n++;
         px.n_even += even ? 1u : 0u;
         return true;
+    }
+    // The same, with the sample's radiance per light group (groups() entries, summing to L) when the film keeps
+    // groups; a dropped sample counts in none of them.
+    bool add(int x, int y, uint32_t index, vec3 L, const vec3* group_L) {
+        if (!add(x, y, index, L)) return false;
+        if (m_groups > 0) [[unlikely]]
+            add_groups(size_t(y) * size_t(m_width) + size_t(x), (index & 1u) == 0u, group_L);
+        return true;
+    }
+
+    // ---- Light groups (core/render/light_groups.h). Without them (the default) the film is the image alone.
+    // Keeps per-group sums for `count` groups (0 or 1: none, no memory) and clears them.
+    void set_groups(int count);
+    int groups() const { return m_groups; }
+    // Group g's sums in pixel i (row-major index).
+    const GroupSums& group(size_t i, int g) const { return m_group_sums[i * size_t(m_groups) + size_t(g)]; }
+    const std::vector<GroupSums>& group_sums() const { return m_group_sums; }
+    std::vector<GroupSums>& mutable_group_sums() { return m_group_sums; }
+    // Group g's mean image (each pixel's group sum over its sample count).
+    Image group_mean(int g) const;
+    // The film of the mixed image: sums and half-buffer sums exactly those of sum over groups of gain x group,
+    // computed as the image's own plus (gain - 1) x group, so that with every gain 1 (or no groups, or fewer gains
+    // than groups: the missing ones are 1) it is this film's, bit for bit. The sum of squares mixes each group's own
+    // square by gain^2 and scales the cross terms between groups (which the film does not keep) by the mix's ratio
+    // to the image: exact with every gain 1 or when no sample reaches two groups. No groups in the result.
+    void mixed_into(const LightGains& gains, Film& out) const;
+    Film mixed(const LightGains& gains) const {
+        Film out;
+        mixed_into(gains, out);
+        return out;
     }
 
     // Starts loading pixel (x, y)'s accumulators for add(): a pass touches each pixel once, so on a large film
@@ -109,13 +155,20 @@ public:
     std::vector<FilmPixel>& mutable_pixels() { return m_pixels; }  // e.g. AdaptiveMask::combine; same size
     // A film holding these accumulators (width * height of them), e.g. read back from a partial render.
     static Film from_pixels(int width, int height, std::vector<FilmPixel> pixels);
+    // With light groups: `groups` (> 1) sums per pixel, width * height * groups of them, pixel-major.
+    static Film from_pixels(int width, int height, std::vector<FilmPixel> pixels, int groups,
+                            std::vector<GroupSums> group_sums);
     // Adds another film's sums, sums of squares, half-buffer sums and counts, pixel by pixel: the film of the
-    // union of both films' samples when they hold disjoint sample indices. Same size; not thread-safe.
+    // union of both films' samples when they hold disjoint sample indices. Same size and group count; not
+    // thread-safe.
     void merge(const Film& other);
 
 private:
+    void add_groups(size_t i, bool even, const vec3* group_L);
     int m_width = 0, m_height = 0;
     std::vector<FilmPixel> m_pixels;
+    int m_groups = 0;                     // light groups kept (0: none)
+    std::vector<GroupSums> m_group_sums;  // m_groups per pixel, pixel-major
 };
 
 }  // namespace pv

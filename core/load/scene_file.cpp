@@ -121,7 +121,7 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
         r.object(j, at,
                  {"type", "base_color", "specular", "roughness", "ior", "emission", "metallic", "transmission",
                   "specular_factor", "thin_walled", "attenuation_color", "attenuation_distance", "clearcoat",
-                  "clearcoat_roughness", "sheen_color", "sheen_roughness"});
+                  "clearcoat_roughness", "sheen_color", "sheen_roughness", "light_group"});
     BsdfParams p = bsdf_params(m.bsdf);
     if (o.contains("type")) {
         const std::string type = r.string(o["type"], at / "type");
@@ -150,6 +150,11 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
     if (o.contains("sheen_roughness"))
         p.sheen_roughness = r.number(o["sheen_roughness"], at / "sheen_roughness", 0.f, 1.f);
     if (o.contains("emission")) m.emission = r.vec(o["emission"], at / "emission", 0.f, kBig);
+    if (o.contains("light_group")) {
+        m.light_group = r.string(o["light_group"], at / "light_group");
+        if (m.light_group.empty())
+            r.fail(at / "light_group", "empty; expected the name of the light group its emission belongs to");
+    }
     // A mirror's reflectance is its "specular" colour when given (the MTL's Ks), else its base colour.
     if (p.type == BsdfType::Mirror && o.contains("specular")) p.base = p.specular;
     set_bsdf(m, p);  // the one conversion (keeps a glossy material's diffuse + specular <= 1), fitted to m's textures

@@ -30,6 +30,7 @@ void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings,
     m_settings = &settings;
     m_sampler = &sampler;
     m_observer = nullptr;
+    m_groups = nullptr;
     // The hit data from the packed records (TriangleRecord) when the scene has them, else from its indexed arrays:
     // two instantiations, so that neither carries the other's loads and branches per vertex.
     m_step = ts.triangle_record(0) ? &PathWalker::step_with<true> : &PathWalker::step_with<false>;
@@ -123,11 +124,11 @@ PV_STAGE void PathWalker::escape() {
     const TraceableScene& ts = *m_ts;
     if (ts.environment_black()) return;
     if (!m_nee || m_specular_bounce) {
-        m_L += m_beta * ts.emitted_escape(m_ray.d);
+        add(m_beta * ts.emitted_escape(m_ray.d), kEnvironmentGroup, m_ray.d);
     } else {
         float light_pdf = 0.f;
         const vec3 le = ts.emitted_escape_and_pdf(m_prev_p, m_ray.d, &light_pdf);
-        m_L += m_beta * le * bsdf_hit_weight(m_mis, m_prev_pdf, light_pdf);
+        add(m_beta * le * bsdf_hit_weight(m_mis, m_prev_pdf, light_pdf), kEnvironmentGroup, m_ray.d);
     }
 }
 
@@ -168,11 +169,13 @@ PV_STAGE void PathWalker::emission_found() {
     const TraceableScene& ts = *m_ts;
     const Hit& hit = m_hit;
     const vec3 le = emitted_at(ts.scene(), *m_mat, hit.prim, hit.u, hit.v);
+    const uint8_t group = m_groups ? m_groups->material[size_t(m_mat - ts.materials().data())] : 0;
     if (!m_nee || m_specular_bounce)
-        m_L += m_beta * le;
+        add(m_beta * le, group);
     else
-        m_L += m_beta * le *
-               bsdf_hit_weight(m_mis, m_prev_pdf, ts.light_pdf_hit(hit.prim, m_prev_p, m_prev_n, m_sf.p, m_sf.ng));
+        add(m_beta * le *
+                bsdf_hit_weight(m_mis, m_prev_pdf, ts.light_pdf_hit(hit.prim, m_prev_p, m_prev_n, m_sf.p, m_sf.ng)),
+            group);
 }
 
 // The vertex being scattered: its shading frame, its BSDF (built with the hit's textures when first needed) and its
@@ -296,7 +299,7 @@ PV_STAGE void PathWalker::next_event(Vertex& v, const Draws& d) {
         w_over_pdf = denom > 0.f && std::isfinite(denom) ? pl / denom : power_heuristic(pl, pb) / pl;
     }
     const vec3 added = m_beta * f * (std::fabs(wi.z) * w_over_pdf) * ls.le;
-    m_L += added;
+    add(added, ls.group, ls.wi);
     if (m_observer) [[unlikely]]
         m_observer->light(ls, d.u_light_select, d.u_light, added);
 }
@@ -304,9 +307,10 @@ PV_STAGE void PathWalker::next_event(Vertex& v, const Draws& d) {
 // Punctual lights (glTF KHR_lights_punctual): delta lights, reached by next-event estimation alone (no BSDF sample can
 // hit them), every one at every non-delta vertex, without a random draw or MIS.
 PV_STAGE void PathWalker::punctual_lights(Vertex& v) {
-    for (const PunctualLight& light : m_ts->scene().punctual_lights) {
+    const std::vector<PunctualLight>& lights = m_ts->scene().punctual_lights;
+    for (size_t i = 0; i < lights.size(); ++i) {
         LightSample ls;
-        if (!sample_punctual(light, v.sf.p, ls)) continue;
+        if (!sample_punctual(lights[i], v.sf.p, ls)) continue;
         const vec3 wi = v.frame.to_local(ls.wi);
         if ((glm::dot(ls.wi, v.ng) > 0.f) != (wi.z > 0.f)) continue;
         const vec3 f = eval(v.shade(), v.wo, wi);
@@ -314,7 +318,7 @@ PV_STAGE void PathWalker::punctual_lights(Vertex& v) {
         ++m_counters.shadow_rays;
         if (m_ts->occluded(shadow_ray(v.origin_toward(ls.wi), ls))) continue;
         const vec3 tr = m_fog && !m_in_solid ? fog_transmittance(ls.dist) : vec3(1.f);
-        m_L += m_beta * f * std::fabs(wi.z) * ls.le * tr;
+        add(m_beta * f * std::fabs(wi.z) * ls.le * tr, m_groups ? m_groups->punctual[i] : 0);
     }
 }
 
@@ -434,17 +438,18 @@ PV_STAGE PathWalker::Next PathWalker::medium_scatter(vec3 p) {
             if (ph > 0.f && !ts.occluded(shadow_ray(p, ls))) {
                 const float pl = ls.pdf;
                 const float w = m_mis ? power_heuristic(pl, ph) : 1.f;
-                m_L += m_beta * (ph * w / pl) * ls.le * fog_transmittance(ls.dist);
+                add(m_beta * (ph * w / pl) * ls.le * fog_transmittance(ls.dist), ls.group, ls.wi);
             }
         }
     }
     if (m_settings->light_sampling)
-        for (const PunctualLight& light : ts.scene().punctual_lights) {
+        for (size_t i = 0; i < ts.scene().punctual_lights.size(); ++i) {
             LightSample ls;
-            if (!sample_punctual(light, p, ls)) continue;
+            if (!sample_punctual(ts.scene().punctual_lights[i], p, ls)) continue;
             ++m_counters.shadow_rays;
             if (ts.occluded(shadow_ray(p, ls))) continue;
-            m_L += m_beta * hg_phase(glm::dot(d, ls.wi), fog.g) * ls.le * fog_transmittance(ls.dist);
+            add(m_beta * hg_phase(glm::dot(d, ls.wi), fog.g) * ls.le * fog_transmittance(ls.dist),
+                m_groups ? m_groups->punctual[i] : 0);
         }
     // Phase sampling: the next direction.
     const vec3 wi = sample_hg(d, fog.g, sampler.get2d_at(dim + 3));
@@ -462,6 +467,31 @@ PV_STAGE PathWalker::Next PathWalker::medium_scatter(vec3 p) {
 }
 
 #undef PV_STAGE
+
+// A contribution credited to its light group; the environment's is split between the sky and the sun by their
+// shares of its radiance toward dir (one light for MIS, so the same weight applies to both parts).
+void PathWalker::credit(vec3 c, uint8_t group, vec3 dir) {
+    if (group != kEnvironmentGroup) {
+        m_group_L[group] += c;
+        return;
+    }
+    const LightGroups& g = *m_groups;
+    if (g.sky == g.sun) {
+        m_group_L[g.sky] += c;
+        return;
+    }
+    const Environment& env = m_ts->environment();
+    const vec3 sun = env.eval_sun(dir);
+    if (is_black(sun)) {
+        m_group_L[g.sky] += c;
+        return;
+    }
+    const vec3 le = sun + env.eval_sky(dir);
+    vec3 to_sun(0.f);
+    for (int k = 0; k < 3; ++k) to_sun[k] = le[k] > 0.f ? c[k] * (sun[k] / le[k]) : 0.f;
+    m_group_L[g.sun] += to_sun;
+    m_group_L[g.sky] += c - to_sun;
+}
 
 vec3 trace_path(const TraceableScene& ts, const RenderSettings& settings, Ray ray, Sampler& sampler,
                 PathCounters& counters) {

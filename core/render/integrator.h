@@ -4,9 +4,11 @@
 // max_depth truncates paths. max_depth counts scattering events: 0 shows only emitters seen directly.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 
+#include "core/render/light_groups.h"
 #include "core/render/settings.h"
 #include "core/render/shading.h"
 #include "core/render/surface.h"
@@ -95,6 +97,14 @@ public:
     // Advances the path; false once it has ended (radiance() and counters() are then its results).
     bool step() { return (this->*m_step)(); }
     vec3 radiance() const { return m_L; }
+    // Light groups (core/render/light_groups.h): with `groups` (nullptr: none; start() clears it, so call this after
+    // it), the path also keeps its radiance per group, each contribution credited to the group of the light that
+    // produced it; group_radiance() then has groups->count() entries. The radiance itself is unchanged, bit for bit.
+    void group_by(const LightGroups* groups) {
+        m_groups = groups;
+        if (groups) std::fill_n(m_group_L.begin(), groups->count(), vec3(0.f));
+    }
+    const vec3* group_radiance() const { return m_group_L.data(); }
     const PathCounters& counters() const { return m_counters; }
 
 private:
@@ -122,6 +132,14 @@ private:
     Next medium_scatter(vec3 p);
     vec3 fog_transmittance(float dist) const;
     bool roulette(uint32_t dim);
+    // The one place radiance joins the path: c, produced by a light of `group` (kEnvironmentGroup: the environment
+    // toward dir, split between sky and sun), added to the path and, with light groups, to its group.
+    void add(vec3 c, uint8_t group, vec3 dir = vec3(0.f)) {
+        m_L += c;
+        if (m_groups) [[unlikely]]
+            credit(c, group, dir);
+    }
+    void credit(vec3 c, uint8_t group, vec3 dir);
     bool finish() {
         m_counters.paths = 1;
         return false;
@@ -130,6 +148,8 @@ private:
     const RenderSettings* m_settings = nullptr;
     Sampler* m_sampler = nullptr;
     PathObserver* m_observer = nullptr;
+    const LightGroups* m_groups = nullptr;
+    std::array<vec3, kMaxLightGroups> m_group_L;
     bool (PathWalker::*m_step)() = nullptr;
     Stage m_stage = Stage::Trace;
     bool m_nee = false, m_mis = false, m_select_draw = false, m_early_sky = false;

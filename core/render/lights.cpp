@@ -94,6 +94,13 @@ LightSet::LightSet(const Scene& scene, const std::vector<Material>& materials, b
     }
 }
 
+void LightSet::set_groups(const Scene& scene, const std::vector<uint8_t>& material_group) {
+    for (size_t k = 0; k < m_tris.size(); ++k) {
+        const uint32_t m = scene.material_ids[m_tris[k]];
+        m_emitters[k].group = m < material_group.size() ? material_group[m] : 0;
+    }
+}
+
 void LightSet::set_sampler(LightSamplerKind kind) {
     m_use_tree = kind == LightSamplerKind::Tree && !m_emitters.empty();
     if (m_use_tree && m_tree.empty()) {

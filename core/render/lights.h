@@ -36,7 +36,8 @@ struct LightSample {
     vec3 le{0.f};       // emitted radiance toward the shading point (0 from a one-sided back face)
     vec3 wi{0.f};       // unit direction from the shading point to p
     float dist = 0.f;
-    float pdf = 0.f;  // per solid angle at the shading point
+    float pdf = 0.f;    // per solid angle at the shading point
+    uint8_t group = 0;  // the light group (core/render/light_groups.h) credited with its radiance
 };
 
 // The shadow ray of a light sample, from `origin` (the shading point already offset to the side ls.wi leaves by):
@@ -105,6 +106,9 @@ public:
         return m_use_tree ? m_tree.pmf(m_emitter_of[tri], ref, ref_n) : m_emitters[m_emitter_of[tri]].pmf;
     }
     float total_power() const { return m_total_power; }
+    // Tags each emitter with its material's light group (per material, core/render/light_groups.h), which sample()
+    // reports in LightSample::group.
+    void set_groups(const Scene& scene, const std::vector<uint8_t>& material_group);
 
 private:
     std::vector<uint32_t> m_tris;   // emissive triangle indices
@@ -122,6 +126,7 @@ private:
         bool two_sided;
         uint32_t alpha = kNoIndex;     // into m_alpha for an emitter with an alpha cut-out
         uint32_t emissive = kNoIndex;  // into m_emissive for an emitter with an emissive texture
+        uint8_t group = 0;             // light group (set_groups)
     };
     // An emitter's alpha texture and its corners' uvs.
     struct AlphaCut {
@@ -192,6 +197,7 @@ inline bool LightSet::sample(vec3 ref, vec3 ref_n, float u_select, vec2 u, Light
     const float cos_l = -glm::dot(ls.n, ls.wi);
     if (cos_l == 0.f) return false;
     ls.le = (cos_l > 0.f || e.two_sided) ? e.emission : vec3(0.f);
+    ls.group = e.group;
     if (e.alpha != kNoIndex) {
         // An alpha cut-out emits in proportion to its opacity: the expected emission a BSDF-sampled ray finds
         // there, since the stochastic alpha test (core/render/accel.cpp) keeps such a hit with probability alpha.

@@ -63,6 +63,9 @@ void TraceableScene::set_environment(const EnvironmentSettings& settings) {
 }
 
 void TraceableScene::update_selection() {
+    // The light groups follow what emits (a few small vectors: no cost to the render).
+    m_groups = make_light_groups(*m_scene, m_materials, m_environment);
+    m_lights.set_groups(*m_scene, m_groups.material);
     // Half the light samples to the environment when both it and emissive triangles shine.
     if (m_environment.is_black())
         m_p_env = 0.f;
@@ -176,6 +179,7 @@ bool TraceableScene::sample_environment_mixed(vec3 ref, float u_select, vec2 u, 
     ls.le = le;
     ls.pdf = pdf;
     ls.dist = std::numeric_limits<float>::infinity();
+    ls.group = kEnvironmentGroup;
     return true;
 }
 

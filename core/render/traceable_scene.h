@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/render/accel.h"
+#include "core/render/light_groups.h"
 #include "core/render/lights.h"
 #include "core/render/sky_guide.h"
 #include "core/scene/camera.h"
@@ -81,6 +82,9 @@ public:
     // The surface seen through film position film_px (pixels) of `camera`, by its primary ray through the lens
     // centre; nothing when the ray leaves the scene.
     std::optional<PickResult> pick(const Camera& camera, vec2 film_px) const;
+
+    // The light groups (core/render/light_groups.h), rebuilt with the materials and the environment.
+    const LightGroups& light_groups() const { return m_groups; }
 
     // ---- Lights: emissive triangles, environment and sun as one.
     // True if light sampling can find any light.
@@ -171,6 +175,7 @@ private:
     float m_p_portal = 0.f;
     float m_p_mix = 0.f;  // share of the sky's samples taken by the portals (m_p_portal) or else the guide
     std::shared_ptr<const SkyGuide> m_sky_guide;
+    LightGroups m_groups;
     std::vector<float> m_portal_cdf;  // the scene's portals' cumulative areas / total, last 1
     float m_portal_area = 0.f;        // total
 };
@@ -187,6 +192,7 @@ inline bool TraceableScene::sample_light(vec3 ref, vec3 ref_n, float u_select, v
         ls.le = es->le;
         ls.pdf = p_env * es->pdf;
         ls.dist = std::numeric_limits<float>::infinity();
+        ls.group = kEnvironmentGroup;
         return true;
     }
     if (!m_lights.sample(ref, ref_n, (u_select - p_env) / (1.f - p_env), u, ls, skip_unlit)) return false;

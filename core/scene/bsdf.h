@@ -142,6 +142,8 @@ struct Material {
         return clearcoat_texture != kNoIndex || clearcoat_roughness_texture != kNoIndex ||
                sheen_color_texture != kNoIndex || sheen_roughness_texture != kNoIndex;
     }
+    // The light group its emission is credited to (core/render/light_groups.h); empty: the material's name.
+    std::string light_group;
     bool has_emission() const { return !is_black(emission); }
 };
 

@@ -50,6 +50,7 @@ public:
     // pdf(dir) given pdf_sky(dir) (a caller that has it from eval_and_pdf_sky's texel search).
     float pdf_given_sky(vec3 dir, float sky_pdf) const { return m_p_sun * pdf_sun(dir) + (1.f - m_p_sun) * sky_pdf; }
     vec3 eval_sky(vec3 dir) const;  // the sky's radiance alone (no sun)
+    vec3 eval_sun(vec3 dir) const;  // the sun's alone (no sky)
     // eval(dir), and pdf_sky(dir) in *sky_pdf, with one texel search.
     vec3 eval_and_pdf_sky(vec3 dir, float* sky_pdf) const;
 
@@ -78,7 +79,6 @@ private:
     Frame m_sun_frame;
 
     bool in_sun(vec3 dir) const;  // dir (any length, not 0) within the sun's angular radius
-    vec3 eval_sun(vec3 dir) const;
     float pdf_sky_texel(size_t texel, float sin_theta) const;  // map pdf toward a direction in that texel
     // Texel index row * width + column of dir, and sin(theta) of dir (0 at the poles).
     size_t texel_index(vec3 dir, float* sin_theta) const;

@@ -8,6 +8,7 @@
 
 #include "core/base/error.h"
 #include "core/load/scene_file.h"
+#include "light_mix.h"
 #include "navigation.h"
 #include "refinement.h"
 #include "restarts.h"
@@ -435,3 +436,20 @@ TEST(ViewerSceneLoader, ErrorsReachTheTakerAndStillWake) {
 }
 
 }  // namespace pv::ui
+
+// The Light section's live mix (ui/light_mix.h): gains from intensity x colour, mute and solo; the entries follow the
+// snapshot's groups and start again at 1 when they change.
+TEST(UiLightMix, GainsMuteSoloAndSync) {
+    std::vector<pv::ui::LightMixEntry> mix;
+    EXPECT_TRUE(pv::ui::sync_light_mix(mix, {"lamp", "sky", "sun"}));
+    EXPECT_FALSE(pv::ui::sync_light_mix(mix, {"lamp", "sky", "sun"}));
+    EXPECT_EQ(pv::ui::light_mix_gains(mix), pv::LightGains(3, pv::vec3(1.f)));
+    mix[0].intensity = 2.f;
+    mix[0].colour = pv::vec3(1.f, 0.5f, 0.25f);
+    mix[2].mute = true;
+    EXPECT_EQ(pv::ui::light_mix_gains(mix), (pv::LightGains{pv::vec3(2.f, 1.f, 0.5f), pv::vec3(1.f), pv::vec3(0.f)}));
+    mix[1].solo = true;
+    EXPECT_EQ(pv::ui::light_mix_gains(mix), (pv::LightGains{pv::vec3(0.f), pv::vec3(1.f), pv::vec3(0.f)}));
+    EXPECT_TRUE(pv::ui::sync_light_mix(mix, {"lamp", "sky"}));
+    EXPECT_EQ(pv::ui::light_mix_gains(mix), pv::LightGains(2, pv::vec3(1.f)));
+}
