@@ -13,6 +13,8 @@ namespace pv {
 //                 white diffuse material, standing in for the box's contents.
 //   "many-lights": assets/many-lights (scripts/make_many_lights.py): a room of 320 small lamps of radiances over
 //                 five decades, for the light tree (--light-sampler tree).
+//   "fog-box":    assets/fog-box (scripts/make_fog_box.py): the Cornell box filled with fog, lit by its ceiling light
+//                 and a point lamp inside (distance, equiangular and phase sampling; docs/media.md).
 // The scene named `keyword`, or nothing when it is not a generator keyword. Throws pv::Error if the built-in
 // Cornell box it builds on cannot be loaded.
 std::optional<Scene> generated_scene(const std::string& keyword);

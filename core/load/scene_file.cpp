@@ -114,12 +114,15 @@ json camera_json(const CameraDesc& c) {
                 {"focus_distance", c.focus_distance}};
 }
 
-// Applies a material override: the "type" chooses the BSDF, other keys set its parameters.
+HomogeneousMedium read_medium(const JsonReader& r, const json& j, const Ptr& at);
+
+// Applies a material override: the "type" chooses the BSDF, other keys set its parameters; "medium" the medium
+// inside a closed mesh of it.
 void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& at) {
     const json& o =
         r.object(j, at,
                  {"type", "base_color", "specular", "roughness", "ior", "emission", "metallic", "transmission",
-                  "specular_factor", "thin_walled", "attenuation_color", "attenuation_distance"});
+                  "specular_factor", "thin_walled", "attenuation_color", "attenuation_distance", "medium"});
     BsdfParams p = bsdf_params(m.bsdf);
     if (o.contains("type")) {
         const std::string type = r.string(o["type"], at / "type");
@@ -142,6 +145,7 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
     if (o.contains("attenuation_distance"))
         p.attenuation_distance = r.number(o["attenuation_distance"], at / "attenuation_distance", 1e-6f, kBig);
     if (o.contains("emission")) m.emission = r.vec(o["emission"], at / "emission", 0.f, kBig);
+    if (o.contains("medium")) m.medium = read_medium(r, o["medium"], at / "medium");
     // A mirror's reflectance is its "specular" colour when given (the MTL's Ks), else its base colour.
     if (p.type == BsdfType::Mirror && o.contains("specular")) p.base = p.specular;
     set_bsdf(m, p);  // the one conversion (keeps a glossy material's diffuse + specular <= 1), fitted to m's textures

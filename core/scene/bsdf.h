@@ -11,6 +11,7 @@
 #include "core/base/math.h"
 #include "core/sampling/warp.h"
 #include "core/scene/bsdf_pbr.h"
+#include "core/scene/medium.h"
 #include "core/scene/microfacet.h"
 
 namespace pv {
@@ -130,6 +131,10 @@ struct Material {
     // are scaled by normal_scale. kNoIndex: the interpolated normal (no per-hit work).
     uint32_t normal_texture = kNoIndex;
     float normal_scale = 1.f;
+    // The medium inside a closed mesh of this material (docs/media.md), entered by a path that transmits through it
+    // (glass, or a metallic-roughness material with transmission); empty: none. It takes the place of the
+    // material's KHR_materials_volume attenuation.
+    HomogeneousMedium medium;
     bool has_emission() const { return !is_black(emission); }
 };
 
