@@ -74,7 +74,8 @@ TEST(EquiangularAnalytic, SingleScatteringFromAPointLightInAnInfiniteMedium) {
             << "light " << i << ": mean " << mom.mean << ", expected " << expected << ", stderr "
             << mom.stderr_of_mean();
         // Equiangular sampling cancels the inverse-square peak: the standard deviation stays of the mean's order.
-        EXPECT_LT(std::sqrt(mom.variance()), 3.0 * expected) << "light " << i << ": stddev " << std::sqrt(mom.variance());
+        EXPECT_LT(std::sqrt(mom.variance()), 3.0 * expected)
+            << "light " << i << ": stddev " << std::sqrt(mom.variance());
     }
 }
 

@@ -12,7 +12,6 @@
 #include <cmath>
 
 #include "core/render/integrator.h"
-
 #include "tests/support/scenes.h"
 #include "tests/support/stats.h"
 
@@ -53,8 +52,8 @@ TEST(MediumSphereTransmittance, AbsorbingMediumFollowsBeerLambertAlongTheChord) 
         for (int c = 0; c < 3; ++c) {
             const double expected = std::exp(-double(m.medium.sigma_a[c]) * chord);
             EXPECT_LE(std::fabs(mom[c].mean - expected), k * mom[c].stderr_of_mean() + 1e-6)
-                << "offset " << offsets[i] << ", channel " << c << ": mean " << mom[c].mean << ", expected "
-                << expected << " (chord " << chord << ")";
+                << "offset " << offsets[i] << ", channel " << c << ": mean " << mom[c].mean << ", expected " << expected
+                << " (chord " << chord << ")";
         }
     }
 }
