@@ -12,7 +12,7 @@ PACKAGES := build-essential cmake pkg-config ccache libglfw3-dev libimgui-dev li
   libembree-dev libtbb-dev libglm-dev libtinyobjloader-dev libopenexr-dev libgtest-dev libbenchmark-dev \
   libcli11-dev nlohmann-json3-dev libjpeg62-turbo-dev libpng-dev openexr xvfb xauth libgl1-mesa-dri xdotool imagemagick x11-apps \
   clang libclang-rt-14-dev clang-format libeigen3-dev libtinygltf-dev shellcheck \
-  libopencolorio-dev
+  libopencolorio-dev libdraco-dev libmeshoptimizer-dev gltfpack libwebp-dev
 
 CMAKE_FLAGS := -DCMAKE_BUILD_TYPE=Release -DPATHVIEW_WERROR=ON
 # ccache: paths below the project are hashed relative to it, so a fresh clone (CI) reuses earlier compilations.
@@ -77,7 +77,8 @@ build-asan-fuzz: deps
 	@cmake -S . -B build-asan-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ $(SAN_FLAGS) -DPATHVIEW_BUILD_UI=ON \
 	  -DPATHVIEW_SANITIZE=address,undefined -DPATHVIEW_BUILD_FUZZER=ON > build-asan-fuzz.configure.log 2>&1 || \
 	  { cat build-asan-fuzz.configure.log; exit 1; }
-	@cmake --build build-asan-fuzz -j $(JOBS) --target pathview_tests pathview_ui_tests pathview fuzz_obj fuzz_image fuzz_scene_json fuzz_partial fuzz_gltf
+	@cmake --build build-asan-fuzz -j $(JOBS) --target pathview_tests pathview_ui_tests pathview fuzz_obj fuzz_image fuzz_scene_json fuzz_partial fuzz_gltf \
+	  fuzz_meshopt fuzz_draco
 
 test-asan: build-asan-fuzz
 	cd build-asan-fuzz && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
@@ -92,19 +93,24 @@ test-tsan: deps
 # libFuzzer under ASan+UBSan from the seed corpora in tests/fuzz (only read; new inputs go to
 # build-asan-fuzz/corpus-*.new): the OBJ import path (corpus), the image loaders (corpus-image: seeds, the issue-15
 # reproducers and every crash found since), the JSON scene reader (corpus-json), merge's reader of partial renders
-# (corpus-partial) and the glTF loader (corpus-gltf, written by tests/fuzz/make_gltf_corpus.py). A fixed seed and a
+# (corpus-partial), the glTF loader (corpus-gltf, written by tests/fuzz/make_gltf_corpus.py) and its decompressors
+# (corpus-meshopt, corpus-draco: tests/fuzz/make_compressed_corpus.py). A fixed seed and a
 # fixed number of runs per fuzzer (at most about 30 s each on these machines; FUZZ_SECONDS caps the time), so a run
 # is deterministic for a given build: CI repeats exactly what was run before submitting, and a crash input
-# (./crash-*) reproduces.
+# (./crash-*) reproduces. fuzz_gltf runs twice: as the others, then (the entry ending in :large) with inputs up to
+# 1 MiB and a dictionary of glTF's keys (tests/fuzz/gltf.dict), where large counts and deep nesting live.
 FUZZ_SECONDS ?= 120
+FUZZ_LARGE_FLAGS := -max_len=1048576 -dict=tests/fuzz/gltf.dict
 FUZZERS := fuzz_obj:corpus:150000 fuzz_image:corpus-image:150000 fuzz_scene_json:corpus-json:400000 \
-  fuzz_partial:corpus-partial:6000 fuzz_gltf:corpus-gltf:30000
+  fuzz_partial:corpus-partial:6000 fuzz_gltf:corpus-gltf:30000 fuzz_gltf:corpus-gltf:2000:large \
+  fuzz_meshopt:corpus-meshopt:7000 fuzz_draco:corpus-draco:7000
 test-fuzz: build-asan-fuzz
 	@set -e; for f in $(FUZZERS); do name=$${f%%:*}; rest=$${f#*:}; seeds=$${rest%%:*}; runs=$${rest#*:}; \
+	  extra=""; case $$runs in *:large) runs=$${runs%:large}; extra="$(FUZZ_LARGE_FLAGS)";; esac; \
 	  rm -rf build-asan-fuzz/$$seeds.new && mkdir -p build-asan-fuzz/$$seeds.new; \
-	  echo "make test-fuzz: $$name, $$runs runs from tests/fuzz/$$seeds"; \
+	  echo "make test-fuzz: $$name, $$runs runs from tests/fuzz/$$seeds $$extra"; \
 	  ./build-asan-fuzz/tests/fuzz/$$name -seed=1 -runs=$$runs -max_total_time=$(FUZZ_SECONDS) -timeout=60 \
-	    -rss_limit_mb=2048 -print_final_stats=1 build-asan-fuzz/$$seeds.new tests/fuzz/$$seeds; \
+	    -rss_limit_mb=2048 -print_final_stats=1 $$extra build-asan-fuzz/$$seeds.new tests/fuzz/$$seeds; \
 	done
 
 bench: build

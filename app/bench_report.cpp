@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
+#include <string_view>
+#include <type_traits>
 
 #include "app/bench.h"
 #include "core/base/error.h"
@@ -32,6 +35,35 @@ void write_file(const std::string& path, const std::string& text) {
     write_file_atomically(path, [&](int fd) { write_all(fd, text.data(), text.size(), path); });
 }
 
+// The words a configuration uses for the settings-table field `key` of type T: each value once, by its shortest
+// word in the table (sampler: ind|sobol; light_sampler: power|tree).
+template <class T>
+std::vector<NamedValue<T>> short_words(const char* key) {
+    std::vector<NamedValue<T>> out;
+    for_each_setting([&](const auto& f) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(RenderSettings{}.*f.member)>, T>) {
+            if (std::string_view(f.key) != key) return;
+            for (size_t i = 0; i < f.name_count; ++i) {
+                const NamedValue<T>& w = f.names[i];
+                auto same =
+                    std::find_if(out.begin(), out.end(), [&](const NamedValue<T>& o) { return o.value == w.value; });
+                if (same == out.end())
+                    out.push_back(w);
+                else if (std::strlen(w.name) < std::strlen(same->name))
+                    *same = w;
+            }
+        }
+    });
+    return out;
+}
+
+template <class T>
+std::string joined(const std::vector<NamedValue<T>>& words) {
+    std::string out;
+    for (const NamedValue<T>& w : words) out += (out.empty() ? "" : "|") + std::string(w.name);
+    return out;
+}
+
 std::string fmt(const char* f, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, f, v);
@@ -41,10 +73,11 @@ std::string fmt(const char* f, double v) {
 }  // namespace
 
 std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSettings& base) {
+    // The estimator (nee and mis) and roulette words are bench's own; the samplers' come from the settings table.
     const char* estimators[] = {"bsdf", "nee", "mis"};
     const char* rrs[] = {"rr", "norr"};
-    const char* samplers[] = {"ind", "sobol"};
-    const char* light_samplers[] = {"power", "tree"};
+    const std::vector<NamedValue<SamplerKind>> samplers = short_words<SamplerKind>("sampler");
+    const std::vector<NamedValue<LightSamplerKind>> light_samplers = short_words<LightSamplerKind>("light_sampler");
     std::vector<BenchConfig> out;
     for (std::string item : split(list, ',')) {
         if (item.empty()) continue;
@@ -52,9 +85,10 @@ std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSett
         const std::vector<std::string> f = split(item, '/');
         auto bad = [&] {
             return Error("--configs " + item +
-                         ": expected estimator/rr/sampler[/light-sampler] with estimator bsdf|nee|mis, "
-                         "rr rr|norr, sampler ind|sobol, light sampler power|tree (each may be *), e.g. mis/rr/sobol, "
-                         "mis/rr/sobol/tree, or all");
+                         ": expected estimator/rr/sampler[/light-sampler] with estimator bsdf|nee|mis, rr rr|norr, "
+                         "sampler " +
+                         joined(samplers) + ", light sampler " + joined(light_samplers) +
+                         " (each may be *), e.g. mis/rr/sobol, mis/rr/sobol/tree, or all");
         };
         if (f.size() != 3 && f.size() != 4) throw bad();
         // Without the fourth field, --light-sampler's choice and the names of before.
@@ -62,22 +96,21 @@ std::vector<BenchConfig> parse_configs(const std::string& list, const RenderSett
         bool matched = false;
         for (const char* e : estimators)
             for (const char* r : rrs)
-                for (const char* s : samplers)
-                    for (const char* l : light_samplers) {
-                        if ((f[0] != "*" && f[0] != e) || (f[1] != "*" && f[1] != r) || (f[2] != "*" && f[2] != s))
+                for (const NamedValue<SamplerKind>& s : samplers)
+                    for (const NamedValue<LightSamplerKind>& l : light_samplers) {
+                        if ((f[0] != "*" && f[0] != e) || (f[1] != "*" && f[1] != r) || (f[2] != "*" && f[2] != s.name))
                             continue;
-                        if (with_light ? f[3] != "*" && f[3] != l
-                                       : std::string(l) != light_sampler_name(base.light_sampler))
-                            continue;
+                        if (with_light ? f[3] != "*" && f[3] != l.name : l.value != base.light_sampler) continue;
                         matched = true;
                         BenchConfig c;
-                        c.name = std::string(e) + "/" + r + "/" + s + (with_light ? std::string("/") + l : "");
+                        c.name =
+                            std::string(e) + "/" + r + "/" + s.name + (with_light ? std::string("/") + l.name : "");
                         c.settings = base;
                         c.settings.light_sampling = std::string(e) != "bsdf";
                         c.settings.mis = std::string(e) == "mis";
                         c.settings.russian_roulette = std::string(r) == "rr";
-                        c.settings.sampler = *parse_sampler(s);
-                        c.settings.light_sampler = *value_of(kLightSamplerNames, l);
+                        c.settings.sampler = s.value;
+                        c.settings.light_sampler = l.value;
                         const bool dup =
                             std::any_of(out.begin(), out.end(), [&](const BenchConfig& o) { return o.name == c.name; });
                         if (!dup) out.push_back(c);
@@ -115,18 +148,20 @@ void print_denoise_table(const std::vector<BenchSeries>& series) {
 
 void write_csv(const std::string& path, const std::string& scene, const std::vector<BenchSeries>& series) {
     std::ostringstream o;
-    o << "scene,config,light_sampling,mis,rr,sampler,spp,seeds,seconds_mean,seconds_std,relmse_mean,relmse_std,"
-         "relmse_min,relmse_max,relmse_trimmed_mean,rmse_mean,mape_mean,mrays_per_s,mean_path_length,rays_per_sample,"
-         "efficiency,relmse_atrous_mean,atrous_seconds_mean,relmse_nfor_mean,nfor_seconds_mean\n";
+    // A column per field of the settings table (core/render/settings.h), named by its key, valued by its word.
+    o << "scene,config";
+    for_each_setting([&](const auto& f) { o << ',' << f.key; });
+    o << ",spp,seeds,seconds_mean,seconds_std,relmse_mean,relmse_std,relmse_min,relmse_max,relmse_trimmed_mean,"
+         "rmse_mean,mape_mean,mrays_per_s,mean_path_length,rays_per_sample,efficiency,relmse_atrous_mean,"
+         "atrous_seconds_mean,relmse_nfor_mean,nfor_seconds_mean\n";
     for (const BenchSeries& s : series)
         for (const BenchPoint& p : s.points) {
-            const RenderSettings& st = s.config.settings;
-            o << '"' << scene << "\"," << s.config.name << ',' << st.light_sampling << ',' << st.mis << ','
-              << st.russian_roulette << ',' << sampler_name(st.sampler) << ',' << p.spp << ',' << p.seeds << ','
-              << fmt("%.6g", p.seconds.mean) << ',' << fmt("%.3g", p.seconds.stddev) << ','
-              << fmt("%.6g", p.rel_mse.mean) << ',' << fmt("%.4g", p.rel_mse.stddev) << ','
-              << fmt("%.6g", p.rel_mse.min) << ',' << fmt("%.6g", p.rel_mse.max) << ','
-              << fmt("%.6g", p.rel_mse_trimmed.mean) << ',' << fmt("%.6g", p.rmse.mean) << ','
+            o << '"' << scene << "\"," << s.config.name;
+            for_each_setting([&](const auto& f) { o << ',' << f.word(s.config.settings.*f.member); });
+            o << ',' << p.spp << ',' << p.seeds << ',' << fmt("%.6g", p.seconds.mean) << ','
+              << fmt("%.3g", p.seconds.stddev) << ',' << fmt("%.6g", p.rel_mse.mean) << ','
+              << fmt("%.4g", p.rel_mse.stddev) << ',' << fmt("%.6g", p.rel_mse.min) << ',' << fmt("%.6g", p.rel_mse.max)
+              << ',' << fmt("%.6g", p.rel_mse_trimmed.mean) << ',' << fmt("%.6g", p.rmse.mean) << ','
               << fmt("%.6g", p.mape.mean) << ',' << fmt("%.4g", p.mrays_per_s) << ',' << fmt("%.4g", p.mean_path_length)
               << ',' << fmt("%.4g", p.rays_per_sample) << ',' << fmt("%.6g", p.efficiency());
             // Denoised columns: empty unless bench --denoise measured them.

@@ -21,10 +21,12 @@
 #include "core/frame/renderer.h"
 #include "core/frame/renderer_partial.h"
 #include "core/image/image_io.h"
+#include "core/image/metrics.h"
 #include "core/load/scene_file.h"
 #include "core/partial/partial.h"
 #include "core/partial/partial_merge.h"
 #include "core/render/sky_guide_training.h"
+#include "core/scene/environment.h"
 
 namespace pv::app {
 namespace {
@@ -270,6 +272,20 @@ void print_summary(const RenderOptions& o, const Renderer& renderer, const Rende
                           st.guide_variance_ratio, kSkyGuideRelativeCost);
         std::printf("pathview: sky guide %s%s, trained in %.3f s (part of the first pass)\n",
                     st.guide_used ? "on" : "off", why, st.guide_seconds);
+    }
+    // The scene's own lights leave the view dark (no sky or sun lights it): say how to add fill light (issue 41 item
+    // 6; the viewer's Light section offers the same in one click). Not for a region: black outside it.
+    if (!o.quiet && !renderer.has_region() &&
+        !environment_emits(renderer.scene(), renderer.traceable().environment_settings())) {
+        const Image mean = renderer.film().mean();
+        const double y = mean_display_luminance(mean.rgb.data(), size_t(mean.width) * size_t(mean.height));
+        if (y < kDarkMeanLuminance)
+            std::fprintf(
+                stderr,
+                "pathview: hint: the image is dark (mean displayed luminance %.2g): the scene's own lights barely "
+                "reach this view; --environment sky adds the default sky, --environment 0.5 a neutral grey "
+                "fill\n",
+                y);
     }
     const AdaptiveSettings& adaptive = renderer.adaptive_settings();
     if (adaptive.allocate && !adaptive.enabled())

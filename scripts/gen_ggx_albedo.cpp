@@ -1,5 +1,6 @@
 // scripts/gen_ggx_albedo.cpp: writes core/scene/ggx_albedo_table.{h,cpp}, the directional albedo E(mu, alpha) of
-// Fresnel-less single-scattering GGX reflection (separable Smith G, as core/scene/microfacet.cpp) on a 32 x 32 grid,
+// Fresnel-less single-scattering GGX reflection (separable Smith G, as core/scene/microfacet.cpp) on a 32 x 32 grid
+// (mu, and alpha at roughness = sqrt(alpha) nodes: steep where alpha is small),
 // and its hemispherical average E_avg(alpha) = 2 int E(mu) mu dmu, for the Kulla-Conty multiple-scattering lobe of
 // core/scene/bsdf_pbr.cpp. Self-contained (double precision); build and run from the repository root:
 //   g++ -O2 -std=c++17 -o /tmp/gen_ggx_albedo scripts/gen_ggx_albedo.cpp && /tmp/gen_ggx_albedo core/scene
@@ -59,7 +60,7 @@ int main(int argc, char** argv) {
     const std::string dir = argc > 1 ? argv[1] : "core/scene";
     double e[kN][kN], avg[kN];
     for (int a = 0; a < kN; ++a) {
-        const double alpha = std::fmax(double(a) / (kN - 1), kMinAlpha);
+        const double r = double(a) / (kN - 1), alpha = std::fmax(r * r, kMinAlpha);  // roughness nodes
         avg[a] = 0.0;
         for (int m = 0; m < kN; ++m) {
             const double mu = (m + 0.5) / kN;
@@ -78,7 +79,7 @@ int main(int argc, char** argv) {
         "// core/scene/ggx_albedo_table.h: the directional albedo E(mu, alpha) of Fresnel-less single-scattering "
         "GGX\n// reflection and its average E_avg(alpha) = 2 int E(mu) mu dmu, tabulated by "
         "scripts/gen_ggx_albedo.cpp (generated:\n// do not edit). Nodes: mu = (i + 0.5) / %d, alpha = "
-        "max(j / %d, 1e-3).\n#pragma once\n\nnamespace pv {\n\nconstexpr int kGgxAlbedoN = %d;\nextern const "
+        "max((j / %d)^2, 1e-3).\n#pragma once\n\nnamespace pv {\n\nconstexpr int kGgxAlbedoN = %d;\nextern const "
         "float kGgxAlbedo[kGgxAlbedoN][kGgxAlbedoN];  // [alpha][mu]\nextern const float "
         "kGgxAlbedoAvg[kGgxAlbedoN];               // [alpha]\n\n}  // namespace pv\n",
         kN, kN - 1, kN);

@@ -23,6 +23,7 @@ PanelActions Panel::draw(ViewState& state, CameraController& camera_ctl, const P
     if (!state.drop_status.empty()) status_text(state.drop_status, state.drop_ok);
     if (state.settings.max_depth < RenderSettings{}.max_depth)
         ImGui::TextColored(kWarningColour, "max depth %d truncates paths (biased)", state.settings.max_depth);
+    if (facts.dark_view) dark_view_hint(state, facts, act);
 
     if (ImGui::CollapsingHeader("Progress", ImGuiTreeNodeFlags_DefaultOpen)) progress(state, facts, act);
     if (ImGui::CollapsingHeader("Convergence", ImGuiTreeNodeFlags_DefaultOpen)) convergence(facts);
@@ -59,6 +60,31 @@ std::string shown_image(const ViewState& state, const Snapshot* s) {
     std::snprintf(buf, sizeof buf, "DENOISED%s at %u/%u spp", s->denoised_nfor ? " (NFOR)" : "", s->denoised_spp,
                   s->spp);
     return buf;
+}
+
+// The scene's own lights leave the view dark (no sky or sun): say so, and offer fill light in one click. Either
+// restarts the accumulation, as any light edit does; nothing changes until a button is pressed.
+void Panel::dark_view_hint(ViewState& state, const PanelFacts& facts, PanelActions& act) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kWarningColour);
+    ImGui::TextWrapped("The view is dark (mean %.2g): the scene's own lights barely reach it. Add fill light:",
+                       facts.dark_mean);
+    ImGui::PopStyleColor();
+    if (ImGui::Button("default sky")) {
+        act.fill_default_sky = true;
+        m_log.line("fill default sky");
+    }
+    log_widget("fill_default_sky");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("As --environment sky: the scene is rebuilt with the default sky.");
+    ImGui::SameLine();
+    if (ImGui::Button("grey studio fill")) {
+        state.environment.background = vec3(0.5f);
+        state.environment.strength = 1.f;
+        act.environment_changed = true;
+        m_log.line("fill grey");
+    }
+    log_widget("fill_grey");
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("As --environment 0.5: a uniform grey sky of radiance 0.5 (the Light section edits it).");
 }
 
 void Panel::log_widget(const char* name) {

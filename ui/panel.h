@@ -63,6 +63,8 @@ struct PanelFacts {
     double frame_ms = 0.0;                // the UI's last frame
     const Compare* compare = nullptr;
     bool compare_camera_moved = false;  // B was held from another camera
+    bool dark_view = false;             // the view reads as dark and no sky or sun lights it (dark_view.h)
+    double dark_mean = 0.0;             // its mean displayed luminance
 };
 
 // What the user asked for in this frame.
@@ -79,10 +81,11 @@ struct PanelActions {
     bool reset_camera = false;
     bool load_scene = false;
     bool environment_changed = false;
-    int goto_bookmark = -1;       // index into ViewState::bookmarks
-    std::string save_bookmark;    // non-empty: save the current camera under this name
-    bool region_changed = false;  // ViewState::region set or cleared
-    CompareActions compare;       // hold B, compare views, divider, load an EXR as B
+    bool fill_default_sky = false;  // the dark-view hint's "default sky": the scene rebuilt with it (scene_loads.h)
+    int goto_bookmark = -1;         // index into ViewState::bookmarks
+    std::string save_bookmark;      // non-empty: save the current camera under this name
+    bool region_changed = false;    // ViewState::region set or cleared
+    CompareActions compare;         // hold B, compare views, divider, load an EXR as B
 };
 
 class Panel {
@@ -102,6 +105,7 @@ private:
     void snapshots(ViewState& state, PanelActions& act);
     void scene(ViewState& state, PanelActions& act);
     void lighting(ViewState& state, PanelActions& act);
+    void dark_view_hint(ViewState& state, const PanelFacts& facts, PanelActions& act);
     void bookmarks(ViewState& state, PanelActions& act);
     void compare(const PanelFacts& facts, PanelActions& act);
     // Logs the centre of the last item, once per position change (the GUI test clicks it).

@@ -1,9 +1,14 @@
 // ui/panel_render.cpp: the panel's rendering sections: progress, convergence, estimator, display.
 #include <imgui.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <limits>
+#include <string_view>
+#include <type_traits>
 
 #include "panel.h"
 #include "panel_widgets.h"
@@ -25,6 +30,47 @@ void log_log_plot(const char* label, const std::vector<float>& values, float lo,
     const bool empty = values.empty();
     ImGui::PlotLines(label, empty ? kNothing : values.data(), empty ? 2 : int(values.size()), 0, overlay,
                      empty ? 0.f : FLT_MAX, empty ? 1.f : FLT_MAX, size);
+}
+
+// One widget for a field of the settings table: a checkbox for on|off, a combo of its words (each value once, by its
+// first word), or a number kept in the table's range; the table's help is the tooltip. True when the value changed.
+template <class Field>
+bool setting_widget(RenderSettings& s, const Field& f) {
+    using T = std::decay_t<decltype(s.*f.member)>;
+    T& value = s.*f.member;
+    bool changed = false;
+    if constexpr (std::is_same_v<T, bool>) {
+        changed = ImGui::Checkbox(f.label, &value);
+    } else if constexpr (std::is_enum_v<T>) {
+        constexpr int kMax = 8;
+        const char* words[kMax];
+        T values[kMax];
+        int n = 0, current = 0;
+        for (size_t i = 0; i < f.name_count && n < kMax; ++i) {
+            if (std::find(values, values + n, f.names[i].value) != values + n) continue;
+            if (f.names[i].value == value) current = n;
+            values[n] = f.names[i].value;
+            words[n++] = f.names[i].name;
+        }
+        ImGui::SetNextItemWidth(160.f);
+        if (ImGui::Combo(f.label, &current, words, n)) {
+            value = values[current];
+            changed = true;
+        }
+    } else {
+        static_assert(std::is_integral_v<T>, "a numeric setting of the table is an integer");
+        int64_t v = int64_t(value);
+        const int64_t step = 1;
+        ImGui::SetNextItemWidth(140.f);
+        if (ImGui::InputScalar(f.label, ImGuiDataType_S64, &v, &step)) {
+            const int64_t lo = f.ranged ? int64_t(f.lo) : int64_t(std::numeric_limits<T>::min());
+            const int64_t hi = f.ranged ? int64_t(f.hi) : int64_t(std::numeric_limits<T>::max());
+            value = T(std::clamp(v, lo, hi));
+            changed = true;
+        }
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", f.help);
+    return changed;
 }
 
 }  // namespace
@@ -126,55 +172,30 @@ void Panel::convergence(const PanelFacts& facts) {
                      ImVec2(ImGui::GetContentRegionAvail().x, 48.f));
 }
 
+// The Estimator section is drawn from the settings table (core/render/settings.h): each field's widget, label and
+// tooltip come from its row; a field that needs a switch (MIS needs light sampling) sits indented under it and is
+// disabled while that switch is off.
 void Panel::estimator(ViewState& state, const PanelFacts& facts, PanelActions& act) {
     RenderSettings& s = state.settings;
-    act.settings_changed |= ImGui::Checkbox("light sampling (NEE)", &s.light_sampling);
-    log_widget("light_sampling");
-    ImGui::BeginDisabled(!s.light_sampling);
-    act.settings_changed |= ImGui::Checkbox("MIS", &s.mis);
-    int light_sampler = static_cast<int>(s.light_sampler);
-    if (ImGui::Combo("light sampler", &light_sampler, "power\0tree\0")) {
-        s.light_sampler = static_cast<LightSamplerKind>(light_sampler);
-        act.settings_changed = true;
-    }
-    log_widget("light_sampler");
-    if (ImGui::IsItemHovered())
-        ImGui::SetTooltip(
-            "How an emissive triangle is chosen for a light sample: in proportion to its power, or by a light tree "
-            "in proportion to a bound on what it sends to the shading point (scenes of many lights)");
-    int guide = static_cast<int>(s.sky_guide);
-    if (ImGui::Combo("sky guide", &guide, "off\0on\0auto\0")) {
-        s.sky_guide = static_cast<SkyGuideMode>(guide);
-        act.settings_changed = true;
-    }
-    log_widget("sky_guide");
-    if (ImGui::IsItemHovered())
-        ImGui::SetTooltip(
-            "Aim the sky's light samples at the directions a short training pass found unoccluded; auto: where the "
-            "training predicts it pays");
-    if (facts.snapshot && !facts.snapshot->sky_guide.empty())
-        ImGui::TextDisabled("  sky guide %s", facts.snapshot->sky_guide.c_str());
-    ImGui::EndDisabled();
-    act.settings_changed |= ImGui::Checkbox("Russian roulette", &s.russian_roulette);
-    log_widget("rr");
-    const int unbounded = RenderSettings{}.max_depth;
-    bool is_unbounded = s.max_depth >= unbounded;
-    if (ImGui::Checkbox("unbounded depth", &is_unbounded)) {
-        s.max_depth = is_unbounded ? unbounded : 8;
-        act.settings_changed = true;
-    }
-    if (!is_unbounded) act.settings_changed |= ImGui::SliderInt("max depth", &s.max_depth, 0, 64);
-    int seed = static_cast<int>(s.seed);
-    ImGui::SetNextItemWidth(100.f);
-    if (ImGui::InputInt("seed", &seed)) {
-        s.seed = static_cast<uint32_t>(std::max(seed, 0));
-        act.settings_changed = true;
-    }
-    int sampler = static_cast<int>(s.sampler);
-    if (ImGui::Combo("sampler", &sampler, "independent\0Sobol (Owen-scrambled)\0")) {
-        s.sampler = static_cast<SamplerKind>(sampler);
-        act.settings_changed = true;
-    }
+    auto draw = [&](const auto& f) {
+        act.settings_changed |= setting_widget(s, f);
+        log_widget(f.key);
+        if (std::string_view(f.key) == "sky_guide" && facts.snapshot && !facts.snapshot->sky_guide.empty())
+            ImGui::TextDisabled("  sky guide %s", facts.snapshot->sky_guide.c_str());
+    };
+    for_each_setting([&](const auto& parent) {
+        if (parent.needs) return;
+        draw(parent);
+        bool on = true;
+        if constexpr (std::is_same_v<std::decay_t<decltype(s.*parent.member)>, bool>) on = s.*parent.member;
+        ImGui::Indent();
+        ImGui::BeginDisabled(!on);
+        for_each_setting([&](const auto& f) {
+            if (f.needs && std::string_view(f.needs) == parent.key) draw(f);
+        });
+        ImGui::EndDisabled();
+        ImGui::Unindent();
+    });
 }
 
 void Panel::display(ViewState& state, const PanelFacts& facts) {

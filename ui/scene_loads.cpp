@@ -39,18 +39,34 @@ void SceneLoads::drop(std::vector<std::string>& dropped, ViewState& state, const
             m_drop_loading = d;
         }
     } else if (d.kind == DropKind::EnvironmentMap) {
-        // The current scene with the new map, rebuilt off the UI thread like a loaded scene; the view stays.
-        auto load = [scene = m_scene.shared(), path = d.path, camera, materials = state.materials,
-                     environment = state.environment] {
-            return with_environment_map(*scene, path, camera, materials, environment);
-        };
-        if (m_loader.start(load, m_threads)) {
-            state.scene_loading = true;
-            m_drop_loading = d;
-        }
+        start_environment(d, state, camera);
     }
     m_log.line("drop %s", state.drop_status.c_str());
     if (!state.drop_ok) std::fprintf(stderr, "%s\n", state.drop_status.c_str());
+}
+
+void SceneLoads::environment(const std::string& spec, ViewState& state, const CameraDesc& camera) {
+    if (m_loader.busy()) {
+        state.drop_status = "environment " + spec + ": not added, a load is running; try again when it ends";
+        state.drop_ok = false;
+        return;
+    }
+    state.drop_status = "adding environment " + spec;
+    state.drop_ok = true;
+    start_environment(DropRequest{DropKind::EnvironmentMap, spec, state.drop_status}, state, camera);
+    m_log.line("environment %s", spec.c_str());
+}
+
+void SceneLoads::start_environment(const DropRequest& request, ViewState& state, const CameraDesc& camera) {
+    // The current scene with the new map, rebuilt off the UI thread like a loaded scene; the view stays.
+    auto load = [scene = m_scene.shared(), path = request.path, camera, materials = state.materials,
+                 environment = state.environment] {
+        return with_environment_map(*scene, path, camera, materials, environment);
+    };
+    if (m_loader.start(load, m_threads)) {
+        state.scene_loading = true;
+        m_drop_loading = request;
+    }
 }
 
 std::optional<LoadedScene> SceneLoads::take_finished(ViewState& state) {

@@ -31,6 +31,9 @@ public:
     // Files dropped on the window (cleared): the first scene loads as "Load" does; the first image becomes the
     // current scene's environment map, seen from `camera`. One load at a time: a drop during a load is refused.
     void drop(std::vector<std::string>& dropped, ViewState& state, const CameraDesc& camera);
+    // The current scene rebuilt with the environment `spec` (as --environment: "sky", a colour or a map), seen from
+    // `camera`, in the background as a dropped map is; refused (said in the Scene section) during another load.
+    void environment(const std::string& spec, ViewState& state, const CameraDesc& camera);
     // A load that has ended: the scene to adopt, or nothing (none ended, or it failed: reported in `state`).
     std::optional<LoadedScene> take_finished(ViewState& state);
     // After the viewer adopted what take_finished() returned (ActiveScene::adopt): the Scene section (and a drop's
@@ -38,6 +41,9 @@ public:
     void adopted(ViewState& state);
 
 private:
+    // Starts the rebuild of the current scene with environment `spec`; the outcome is reported as `request`'s.
+    void start_environment(const DropRequest& request, ViewState& state, const CameraDesc& camera);
+
     SceneLoader& m_loader;
     ActiveScene& m_scene;
     ViewLog& m_log;

@@ -18,6 +18,7 @@
 #include "bookmarks.h"
 #include "camera_controller.h"
 #include "compare_display.h"
+#include "dark_view.h"
 #include "display.h"
 #include "frame_pacing.h"
 #include "frame_stats.h"
@@ -74,6 +75,7 @@ private:
     SceneLoads m_loads{m_loader, m_scene, m_log, m_opt.threads};
     FramePacing m_pacing;
     FrameStats m_frame_stats;
+    mutable DarkView m_dark;  // measured when the panel asks, once per snapshot
     ViewState m_state;
 
     int m_full_w = 0, m_full_h = 0;  // image region, framebuffer pixels
@@ -144,6 +146,8 @@ PanelFacts Viewer::panel_facts() const {
     facts.frame_ms = m_frame_stats.last_ms();
     facts.compare = &m_compare;
     facts.compare_camera_moved = m_compare.camera_moved(m_camera->desc());
+    facts.dark_view = m_dark.update(m_image.shown(), m_scene.environment_lit());
+    facts.dark_mean = m_dark.mean();
     return facts;
 }
 
@@ -154,8 +158,7 @@ bool Viewer::take_latest() {
     m_frame_stats.pass_shown(m_state.display.denoise && !m_image.displayed().denoised.empty() &&
                              m_image.displayed().denoised_spp == m_image.displayed().spp);
     m_compare_display.new_pass(m_image.shown(), m_image.displayed(), m_denoising);
-    // The next change restarts at the finest resolution whose first frame is predicted to be ready within
-    // half a display refresh (the rest goes to the UI: its frame, llvmpipe sharing the cores).
+    // The next change restarts at the finest resolution whose first pass is predicted within half a refresh.
     const Snapshot& s = m_image.shown();
     if (m_full_w > 0)
         m_schedule.measured_first_pass(s.first_ready_ms * 1e-3, s.width * s.height, double(m_full_w) * m_full_h,
@@ -163,10 +166,8 @@ bool Viewer::take_latest() {
     return true;
 }
 
-// A restart was posted in this frame: its first pass, sized to be ready within half a refresh
-// (RefinementSchedule), is waited for until this refresh ends and drawn in this very frame, instead of the frame
-// drawing the old image and the next one the new: input to frame loses one frame's drawing. Never longer than a
-// refresh: a slower pass is shown by a later frame, as before.
+// A restart posted in this frame: its first pass (sized by RefinementSchedule) is waited for until this refresh ends
+// and drawn in this very frame rather than the next; a slower pass is shown by a later frame, as before.
 void Viewer::show_first_pass(double frame_start) {
     const double left = frame_start + 1.0 / m_window.refresh_hz() - glfwGetTime();
     if (left <= 0.0) return;
@@ -175,12 +176,11 @@ void Viewer::show_first_pass(double frame_start) {
 }
 
 bool Viewer::wait_for_work() {
-    // Minimised: pause rendering and sleep until the window comes back.
     auto pause = [this](bool minimised) {
         apply_controls(*m_renderer, m_state, minimised);
         m_log.line(minimised ? "minimised: paused" : "restored");
     };
-    if (m_pacing.sleep_while_minimised(m_window.get(), m_input, pause)) return false;
+    if (m_pacing.sleep_while_minimised(m_window.get(), m_input, pause)) return false;  // until it comes back
     // Sleep until input or a published pass (glfwPostEmptyEvent) arrives (frame_pacing.h).
     const bool wants_keyboard = ImGui::GetIO().WantCaptureKeyboard;
     const bool continuous = m_pacing.continuous(m_input, wants_keyboard);
@@ -262,6 +262,7 @@ NavigationResult Viewer::handle_input(PanelActions& act, double dt, double now) 
         [this] { return m_display->read_shaded(m_state.display); }, m_state);
     if (act.load_scene) m_loads.load(m_state);
     m_loads.drop(m_input.dropped, m_state, m_camera->desc());
+    if (act.fill_default_sky) m_loads.environment("sky", m_state, m_camera->desc());
     poll_loading(now);
     handle_bookmarks(act, m_state, m_camera->desc(), m_scene.scene().source, m_log);
     m_compare_display.apply(act.compare, m_image.displayed(), m_image.shown(), m_denoising, m_camera->desc(), m_full_w,

@@ -118,8 +118,9 @@ uint64_t regular_file_size(const std::string& path, const char* what) {
 
 namespace {
 // Reads `n` bytes from `fd` (fewer if the file shrank meanwhile) and closes it.
-std::string read_from(int fd, const std::string& path, size_t n) {
-    std::string bytes(n, '\0');
+template <class Bytes>
+Bytes read_from(int fd, const std::string& path, size_t n) {
+    Bytes bytes(n, 0);
     size_t done = 0;
     while (done < bytes.size()) {
         const ssize_t r = ::read(fd, bytes.data() + done, bytes.size() - done);
@@ -141,7 +142,7 @@ std::string read_from(int fd, const std::string& path, size_t n) {
 std::string read_regular_file_prefix(const std::string& path, size_t n, const char* what) {
     uint64_t size = 0;
     const int fd = open_regular(path, what, size);
-    return read_from(fd, path, size_t(std::min<uint64_t>(size, n)));
+    return read_from<std::string>(fd, path, size_t(std::min<uint64_t>(size, n)));
 }
 
 std::string read_regular_file(const std::string& path, uint64_t max_bytes, const char* what) {
@@ -152,7 +153,18 @@ std::string read_regular_file(const std::string& path, uint64_t max_bytes, const
         throw Error(path + ": the file is " + std::to_string(size) + " bytes; the limit for " + what + " is " +
                     std::to_string(max_bytes));
     }
-    return read_from(fd, path, size_t(size));
+    return read_from<std::string>(fd, path, size_t(size));
+}
+
+std::vector<unsigned char> read_regular_file_bytes(const std::string& path, uint64_t max_bytes, const char* what) {
+    uint64_t size = 0;
+    const int fd = open_regular(path, what, size);
+    if (size > max_bytes) {
+        ::close(fd);
+        throw Error(path + ": the file is " + std::to_string(size) + " bytes; the limit for " + what + " is " +
+                    std::to_string(max_bytes));
+    }
+    return read_from<std::vector<unsigned char>>(fd, path, size_t(size));
 }
 
 void write_all(int fd, const void* data, size_t size, const std::string& path) {

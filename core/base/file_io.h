@@ -8,12 +8,16 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace pv {
 
 // The bytes of the regular file `path`, at most `max_bytes` of them. `what` completes "expected ..." in messages
 // ("a scene file", "an image"). Throws pv::Error: missing, not a regular file, larger than max_bytes, read error.
 std::string read_regular_file(const std::string& path, uint64_t max_bytes, const char* what);
+
+// The same into a byte vector (what tinygltf takes, without a second copy of the file).
+std::vector<unsigned char> read_regular_file_bytes(const std::string& path, uint64_t max_bytes, const char* what);
 
 // The first `n` bytes (fewer if the file is shorter) of the regular file `path`, same checks.
 std::string read_regular_file_prefix(const std::string& path, size_t n, const char* what);

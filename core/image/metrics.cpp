@@ -112,4 +112,13 @@ std::optional<double> interpolate_loglog(const std::vector<double>& x, const std
     return std::nullopt;
 }
 
+double mean_display_luminance(const float* rgb, size_t pixels) {
+    double sum = 0.0;
+    for (size_t i = 0; i < pixels; ++i) {
+        const double y = 0.2126 * rgb[3 * i] + 0.7152 * rgb[3 * i + 1] + 0.0722 * rgb[3 * i + 2];
+        if (std::isfinite(y)) sum += std::clamp(y, 0.0, 1.0);
+    }
+    return pixels ? sum / double(pixels) : 0.0;
+}
+
 }  // namespace pv

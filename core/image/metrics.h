@@ -30,6 +30,17 @@ ErrorMetrics compare_values(const float* image, const float* reference, size_t n
 // from a film's per-pixel variance of the mean. Valid for independent samples only.
 double expected_rel_mse(const Image& mean, const Image& var_of_mean, double eps = kMetricEps);
 
+// A picture that reads as dark: the mean of its pixels' Rec. 709 luminance, each clamped to [0, 1] as the display
+// shows it at exposure 0 (a visible lamp counts as white, not as its radiance), below kDarkMeanLuminance. Measured
+// at 4 spp (160x120) on scenes lit by their own emitters only: Blender's glTF still life lit by its one lamp (its
+// world not exported) 0.0068, the conference room inside with no light reaching it 0; lit as meant, the built-in
+// Cornell box 0.052, the glTF showcase 0.076, the many-lights scene 0.13. The bound sits near the geometric mean
+// of the darkest well-lit scene and the dark still life (a factor of 2.6 to 2.9 from each). Used for the hint that
+// the scene's own lights leave the view dark (pathview render, the viewer's Light section).
+constexpr double kDarkMeanLuminance = 0.02;
+// That mean over n RGB pixels (3 floats each); non-finite values count as 0.
+double mean_display_luminance(const float* rgb, size_t pixels);
+
 // Mean, sample standard deviation, min and max of a set of values (zeros when empty; stddev 0 for one value).
 struct Spread {
     double mean = 0.0, stddev = 0.0, min = 0.0, max = 0.0;

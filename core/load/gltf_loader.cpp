@@ -5,6 +5,8 @@
 // materials and cameras: core/load/gltf_materials.cpp.
 #include "core/load/gltf_loader.h"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
@@ -16,7 +18,10 @@
 
 #include "core/base/error.h"
 #include "core/base/file_io.h"
+#include "core/load/gltf_compression.h"
 #include "core/load/gltf_internal.h"
+#include "core/load/json_bounds.h"
+#include "core/scene/texture_decode.h"
 
 namespace pv {
 namespace gltf_detail {
@@ -94,9 +99,19 @@ Glb parse_glb(const std::string& bytes, const std::string& file) {
     return g;
 }
 
-// tinygltf's file system: regular files of bounded size only, no path expansion.
+// A file's identity (device, inode): how a path tinygltf opens is matched with a buffer precheck() saw.
+std::pair<uint64_t, uint64_t> file_id(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) return {0, 0};
+    return {uint64_t(st.st_dev), uint64_t(st.st_ino)};
+}
+
+// tinygltf's file system: regular files of bounded size only, no path expansion. A buffer's file is read to its
+// declared byteLength at most (precheck() checked the two are equal), straight into tinygltf's vector (one copy in
+// memory); any other file is an image, read only as far as its header says it needs (read_image_file).
 struct FileAccess {
-    std::string error;  // the last failure, for the message
+    std::string error;                                          // the last failure, for the message
+    std::map<std::pair<uint64_t, uint64_t>, uint64_t> buffers;  // file_id -> declared byteLength
 };
 bool fs_exists(const std::string& path, void*) {
     std::error_code ec;
@@ -105,8 +120,14 @@ bool fs_exists(const std::string& path, void*) {
 std::string fs_expand(const std::string& path, void*) { return path; }
 bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
     try {
-        const std::string bytes = read_regular_file(path, kMaxGltfBytes, "a glTF buffer or image");
-        out->assign(bytes.begin(), bytes.end());
+        FileAccess& access = *static_cast<FileAccess*>(user);
+        const auto buffer = access.buffers.find(file_id(path));
+        if (buffer != access.buffers.end()) {
+            *out = read_regular_file_bytes(path, buffer->second, "a glTF buffer (.bin)");
+        } else {
+            const std::string bytes = read_image_file(path, "a glTF image");
+            out->assign(bytes.begin(), bytes.end());
+        }
         return true;
     } catch (const Error& e) {
         if (err) *err += e.what();
@@ -125,9 +146,12 @@ void Loader::check_extensions() {
 
 namespace {
 
-// The checks before tinygltf: required extensions, each buffer's source and declared size (a missing file, a size
-// that the file, data URI or BIN chunk does not hold), with JSON paths.
-void precheck(const std::string_view json_text, const std::string& file, const std::string& dir, const Glb* glb) {
+// The checks before tinygltf: the JSON's nesting depth and element counts (json_bounds.h), required extensions, each
+// buffer's source and declared size (a missing file, a size that the file, data URI or BIN chunk does not hold), with
+// JSON paths.
+void precheck(const std::string_view json_text, const std::string& file, const std::string& dir, const Glb* glb,
+              FileAccess& access) {
+    check_json_bounds(json_text, file, gltf_json_bounds());  // before any parser recurses or allocates
     const json j = json::parse(json_text.begin(), json_text.end(), nullptr, false);
     if (j.is_discarded()) throw Error(file + ": invalid JSON");
     if (!j.is_object()) throw Error(file + ": /: expected a JSON object");
@@ -137,6 +161,13 @@ void precheck(const std::string_view json_text, const std::string& file, const s
             if (req[i].is_string() && !supported_extension(req[i].get<std::string>()))
                 throw Error(file + ": /extensionsRequired/" + str(i) + ": the file requires extension '" +
                             req[i].get<std::string>() + "', which pathview does not support");
+    }
+    if (j.contains("scene")) {  // tinygltf 2.7 renders scene 0 for any index it cannot use
+        const json& s = j["scene"];
+        const size_t scenes = j.contains("scenes") && j["scenes"].is_array() ? j["scenes"].size() : 0;
+        if (!s.is_number_unsigned() || s.get<uint64_t>() >= scenes)
+            throw Error(file + ": /scene: " + s.dump().substr(0, 40) +
+                        " is not a scene index; expected an integer in [0, " + str(scenes) + ")");
     }
     if (!j.contains("buffers")) return;
     const json& buffers = j["buffers"];
@@ -148,6 +179,8 @@ void precheck(const std::string_view json_text, const std::string& file, const s
         if (!b.contains("byteLength") || !b["byteLength"].is_number_unsigned())
             throw Error(file + ": " + at + "/byteLength: expected a non-negative integer");
         const uint64_t declared = b["byteLength"].get<uint64_t>();
+        if (declared == 0)  // (tinygltf 2.7 then indexes an empty vector: a raw vector::_M_range_check message)
+            throw Error(file + ": " + at + "/byteLength: 0; a buffer holds at least one byte");
         auto too_big = [&](const std::string& where, uint64_t has) {
             throw Error(file + ": " + at + "/byteLength: declares " + str(declared) + " bytes, but " + where +
                         " holds " + str(has));
@@ -174,6 +207,7 @@ void precheck(const std::string_view json_text, const std::string& file, const s
         if (size != declared)
             throw Error(file + ": " + at + "/byteLength: declares " + str(declared) + " bytes, but '" + uri + "' has " +
                         str(size));
+        access.buffers[file_id(path)] = declared;
     }
 }
 
@@ -216,6 +250,17 @@ bool decode_image(tinygltf::Image* image, const int index, std::string* err, std
         L.warnings.push_back(L.file + ": " + at + ": no image data; flat colour used");
         return true;
     }
+    // An embedded image (a bufferView or data URI) decodes to at most max(2^24, 64 x its bytes) pixels: a 472 KB
+    // file holding an 11000x11000 PNG decoded to 1.4 GB within the 135-MP budget of image files.
+    int w = 0, h = 0;
+    const uint64_t embedded_max = std::max<uint64_t>(uint64_t(1) << 24, uint64_t(64) * uint64_t(size));
+    if (image->uri.empty() && image_header_size(bytes, size_t(size), w, h) &&
+        uint64_t(w) * uint64_t(h) > embedded_max) {
+        L.warnings.push_back(L.file + ": " + at + ": an embedded " + str(size_t(w)) + "x" + str(size_t(h)) +
+                             " image in " + str(size_t(size)) + " bytes is over the budget of embedded images (" +
+                             str(embedded_max) + " pixels: 64 a byte, at least 2^24); flat colour used");
+        return true;
+    }
     try {
         L.images[index] = Texture::decode(std::string(reinterpret_cast<const char*>(bytes), size_t(size)),
                                           L.file + ": " + at + (image->uri.empty() ? "" : " (" + image->uri + ")"),
@@ -226,7 +271,9 @@ bool decode_image(tinygltf::Image* image, const int index, std::string* err, std
     return true;
 }
 
-Scene load(const std::string& bytes, const std::string& file) {
+Scene load(const std::string& file_bytes, const std::string& file) {
+    std::string patched;  // compressed files made readable by tinygltf (core/load/gltf_compression.h)
+    const std::string& bytes = compressed_json_fixups(file_bytes, file, patched) ? patched : file_bytes;
     std::string dir = std::filesystem::path(file).parent_path().string();
     if (dir.empty()) dir = ".";
     const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
@@ -241,13 +288,13 @@ Scene load(const std::string& bytes, const std::string& file) {
     if (bytes.size() > kMaxGltfBytes) throw Error(file + ": larger than 2 GiB; expected a glTF file");
     Glb glb;
     if (binary) glb = parse_glb(bytes, file);
-    precheck(binary ? glb.json_text : std::string_view(bytes), file, dir, binary ? &glb : nullptr);
+    FileAccess access;
+    precheck(binary ? glb.json_text : std::string_view(bytes), file, dir, binary ? &glb : nullptr, access);
 
     Scene scene;
     scene.source = file;
     Loader L(file, scene);
     tinygltf::TinyGLTF gltf;
-    FileAccess access;
     gltf.SetFsCallbacks(tinygltf::FsCallbacks{fs_exists, fs_expand, fs_read, fs_write, &access});
     ImageContext images{&L};
     gltf.SetImageLoader(decode_image, &images);
@@ -271,6 +318,7 @@ Scene load(const std::string& bytes, const std::string& file) {
     for (const auto& b : L.model.buffers) buffer_bytes += b.data.size();
     L.budget = size_t(
         std::min<uint64_t>(kMaxTriangles, std::max<uint64_t>(kMinInstancingBudget, kInstancingPerByte * buffer_bytes)));
+    decompress(L);
     L.convert_materials();
     if (!L.model.scenes.empty()) {
         int si = L.model.defaultScene;

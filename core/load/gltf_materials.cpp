@@ -17,11 +17,15 @@ UvTransform to_pathview_uv(const UvTransform& t) {
     return r;
 }
 
+// The largest index of refraction a material takes (scene files refuse more: core/load/scene_file.cpp).
+constexpr float kMaxIor = 1e3f;
+
 // The parameters of one glTF material, as the file gives them (the BSDF is built from them in one place).
 struct GltfMaterial {
     vec4 base_color{1.f};
     float metallic = 1.f, roughness = 1.f;  // perceptual roughness
     float ior = 1.5f;
+    double ior_above_bound = 0.0;  // KHR_materials_ior's value when above kMaxIor (then clamped to it)
     float specular = 1.f;
     vec3 specular_color{1.f};
     float transmission = 0.f;
@@ -92,7 +96,11 @@ uint32_t Loader::texture_of(const tinygltf::TextureInfo& info, const std::string
         return kNoIndex;
     }
     const tinygltf::Texture& texture = model.textures[size_t(info.index)];
-    const int source = texture.source;
+    int source = texture.source;
+    if (const tinygltf::Value* webp = extension(texture.extensions, "EXT_texture_webp")) {  // preferred when present
+        const double d = value_number(*webp, "source", -1.0);
+        if (d >= 0.0 && d < 2147483647.0) source = int(d);
+    }
     TextureWrap ws = TextureWrap::Repeat, wt = TextureWrap::Repeat;  // no sampler: repeat (the specification)
     if (texture.sampler >= 0 && size_t(texture.sampler) < model.samplers.size()) {
         const tinygltf::Sampler& sm = model.samplers[size_t(texture.sampler)];
@@ -137,8 +145,11 @@ GltfMaterial material_parameters(const tinygltf::Material& gm) {
     g.metallic = glm::clamp(finite_or(pbr.metallicFactor, 1.f), 0.f, 1.f);
     g.roughness = glm::clamp(finite_or(pbr.roughnessFactor, 1.f), 0.f, 1.f);
     if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_ior")) {
-        const float ior = finite_or(value_number(*e, "ior", 1.5), 1.5f);
+        const double given = value_number(*e, "ior", 1.5);
+        const float ior = finite_or(given, 1.5f);
         g.ior = ior >= 1.f ? ior : 1.5f;  // 0 (the extension's "no refraction" value) and below 1: default
+        // Above the scene file's bound (1e3) the Fresnel terms lose all precision (1e8 made every sample NaN).
+        if (g.ior > kMaxIor) g.ior_above_bound = given, g.ior = kMaxIor;
     }
     if (const tinygltf::Value* e = extension(gm.extensions, "KHR_materials_specular")) {
         g.specular = glm::clamp(finite_or(value_number(*e, "specularFactor", 1.0), 1.f), 0.f, 1.f);
@@ -299,6 +310,9 @@ void Loader::convert_materials() {
         const tinygltf::Material& gm = model.materials[mi];
         const std::string at = ptr({"materials", str(mi)});
         const GltfMaterial g = material_parameters(gm);
+        if (g.ior_above_bound > 0.0)
+            warn_once(at + "/ior", at + "/extensions/KHR_materials_ior/ior: " + std::to_string(g.ior_above_bound) +
+                                       " is above 1000 (the bound scene files apply); clamped to 1000");
         Material m;
         m.name = gm.name.empty() ? "material " + str(mi) : gm.name;
         const BaseColor base = set_base_color(*this, gm, g, at, m);

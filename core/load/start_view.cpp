@@ -15,6 +15,8 @@
 // view, the target half that free distance ahead (the viewer orbits about it). Otherwise (an object, an open box, a
 // flat or empty scene, more than 2^24 triangles) the start view is the outside framing, Scene::framing_camera(),
 // unchanged.
+// load_scene (core/load/scene_file.cpp) uses the interior view only where light reaches it: a sealed one (every probe
+// hits) in a scene without emitting surfaces or punctual lights is framed from outside instead, with a warning.
 #include "core/load/start_view.h"
 
 #include <algorithm>

@@ -13,11 +13,7 @@ std::string RenderSettings::describe() const {
         using T = std::decay_t<decltype(this->*f.member)>;
         const T v = this->*f.member;
         if (f.omitted && v == *f.omitted) return;
-        out += std::string(out.empty() ? "" : " ") + f.key + "=";
-        if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>)
-            out += std::to_string(v);
-        else
-            out += f.name(v);
+        out += std::string(out.empty() ? "" : " ") + f.key + "=" + f.word(v);
     });
     return out;
 }

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <type_traits>
 
 #include "core/base/text.h"
 #include "core/sampling/sampler.h"
@@ -56,15 +57,19 @@ struct RenderSettings {
     std::string describe() const;
 };
 
-// One field of RenderSettings: its key in describe() ("key=value"), its command-line flag and help, and either its
-// words (a bool or an enum: `names`, the first word of a value being the one written) or, for a number, the range
-// the command line accepts. A field whose value is `omitted` is left out of describe(), and text without the key
-// means that value (keys added after partial files existed, so that those files still read).
+// One field of RenderSettings: its key in describe() ("key=value"), its command-line flag and help, its label in the
+// viewer's Estimator section (the help is the widget's tooltip), the key of a switch it needs on to mean anything
+// (none: nullptr), and either its words (a bool or an enum: `names`, the first word of a value being the one
+// written) or, for a number, the range the command line and the panel accept. A field whose value is `omitted` is
+// left out of describe(), and text without the key means that value (keys added after partial files existed, so
+// that those files still read).
 template <class T>
 struct SettingField {
     const char* key;
     const char* flag;
     const char* help;
+    const char* label;
+    const char* needs;
     T RenderSettings::*member;
     const NamedValue<T>* names = nullptr;  // with name_count words; none for a number
     size_t name_count = 0;
@@ -77,6 +82,13 @@ struct SettingField {
             if (names[i].value == v) return names[i].name;
         return nullptr;
     }
+    // The value as describe() writes it: its first word, or the number.
+    std::string word(T v) const {
+        if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>)
+            return std::to_string(v);
+        else
+            return name(v);
+    }
     std::optional<T> value(const std::string& word) const {
         for (size_t i = 0; i < name_count; ++i)
             if (word == names[i].name) return names[i].value;
@@ -85,19 +97,25 @@ struct SettingField {
 };
 
 namespace settings_detail {
+struct Names {  // key, flag, help, panel label, the switch it needs
+    const char* key;
+    const char* flag;
+    const char* help;
+    const char* label;
+    const char* needs = nullptr;
+};
 template <class T, size_t N>
-constexpr SettingField<T> named(const char* key, const char* flag, const char* help, T RenderSettings::*member,
-                                const NamedValue<T> (&names)[N], std::optional<T> omitted = std::nullopt) {
-    return {key, flag, help, member, names, N, false, T{}, T{}, omitted};
+constexpr SettingField<T> named(Names n, T RenderSettings::*member, const NamedValue<T> (&names)[N],
+                                std::optional<T> omitted = std::nullopt) {
+    return {n.key, n.flag, n.help, n.label, n.needs, member, names, N, false, T{}, T{}, omitted};
 }
 template <class T>
-constexpr SettingField<T> number(const char* key, const char* flag, const char* help, T RenderSettings::*member) {
-    return {key, flag, help, member};
+constexpr SettingField<T> number(Names n, T RenderSettings::*member) {
+    return {n.key, n.flag, n.help, n.label, n.needs, member};
 }
 template <class T>
-constexpr SettingField<T> number(const char* key, const char* flag, const char* help, T RenderSettings::*member, T lo,
-                                 T hi) {
-    return {key, flag, help, member, nullptr, 0, true, lo, hi, std::nullopt};
+constexpr SettingField<T> number(Names n, T RenderSettings::*member, T lo, T hi) {
+    return {n.key, n.flag, n.help, n.label, n.needs, member, nullptr, 0, true, lo, hi, std::nullopt};
 }
 }  // namespace settings_detail
 
@@ -106,24 +124,29 @@ template <class F>
 void for_each_setting(F&& f) {
     using namespace settings_detail;
     using S = RenderSettings;
-    f(named("nee", "--light-sampling", "Next-event estimation: on|off", &S::light_sampling, kOnOffNames));
-    f(named("mis", "--mis", "Multiple importance sampling of light and BSDF samples: on|off", &S::mis, kOnOffNames));
-    f(named("rr", "--rr", "Russian roulette: on|off", &S::russian_roulette, kOnOffNames));
-    f(number("max_depth", "--max-depth", "Maximum number of scattering events (0: emitters seen directly only)",
+    f(named({"nee", "--light-sampling", "Next-event estimation: on|off", "light sampling (NEE)"}, &S::light_sampling,
+            kOnOffNames));
+    f(named({"mis", "--mis", "Multiple importance sampling of light and BSDF samples: on|off", "MIS", "nee"}, &S::mis,
+            kOnOffNames));
+    f(named({"rr", "--rr", "Russian roulette: on|off", "Russian roulette"}, &S::russian_roulette, kOnOffNames));
+    f(number({"max_depth", "--max-depth", "Maximum number of scattering events (0: emitters seen directly only)",
+              "max depth"},
              &S::max_depth, 0, 100000));
-    f(number("seed", "--seed", "Random seed (the image depends only on it, not on threads)", &S::seed));
-    f(named("sampler", "--sampler", "Sample generator: independent|sobol (Owen-scrambled, padded)", &S::sampler,
-            kSamplerNames));
+    f(number({"seed", "--seed", "Random seed (the image depends only on it, not on threads)", "seed"}, &S::seed));
+    f(named({"sampler", "--sampler", "Sample generator: independent|sobol (Owen-scrambled, padded)", "sampler"},
+            &S::sampler, kSamplerNames));
     // Off is left out: strings from before the guide existed mean it off.
-    f(named("sky_guide", "--sky-guide",
-            "Next-event estimation of the sky aimed at the directions a short training pre-pass found "
-            "unoccluded (interiors lit through openings): on|off|auto (auto: where the training predicts "
-            "it pays for its cost)",
+    f(named({"sky_guide", "--sky-guide",
+             "Next-event estimation of the sky aimed at the directions a short training pre-pass found "
+             "unoccluded (interiors lit through openings): on|off|auto (auto: where the training predicts "
+             "it pays for its cost)",
+             "sky guide", "nee"},
             &S::sky_guide, kSkyGuideNames, std::optional<SkyGuideMode>(SkyGuideMode::Off)));
-    f(named("light_sampler", "--light-sampler",
-            "How next-event estimation chooses an emissive triangle: power (in proportion to its power) or "
-            "tree (a light tree: in proportion to a bound on its contribution at the shading point; for "
-            "scenes of many lights)",
+    f(named({"light_sampler", "--light-sampler",
+             "How next-event estimation chooses an emissive triangle: power (in proportion to its power) or "
+             "tree (a light tree: in proportion to a bound on its contribution at the shading point; for "
+             "scenes of many lights)",
+             "light sampler", "nee"},
             &S::light_sampler, kLightSamplerNames, std::optional<LightSamplerKind>(LightSamplerKind::Power)));
 }
 

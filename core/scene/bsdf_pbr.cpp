@@ -5,6 +5,7 @@
 
 #include "core/sampling/warp.h"
 #include "core/scene/ggx_albedo_table.h"
+#include "core/scene/ggx_dielectric_table.h"
 #include "core/scene/microfacet.h"
 
 namespace pv {
@@ -37,42 +38,113 @@ vec3 fresnel_reflect(const MR& b, float c, float eta) {
     return f;
 }
 
-// Kulla-Conty multiple scattering for the metal lobe ("Revisiting Physically Based Shading at Imageworks", SIGGRAPH
-// 2017): single-scattering GGX reflects E(mu_o, alpha) of a white furnace (down to 0.31 at alpha 1); the energy lost
-// between microfacets is returned by f_ms = (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)), whose albedo is exactly
-// 1 - E(mu_o), scaled for a coloured (Schlick) metal by the series of Fresnel-weighted bounces,
-// F_avg^2 E_avg / (1 - F_avg (1 - E_avg)) with F_avg = C + (1 - C) / 21 (1 for white). E and E_avg are bilinear in
-// the table of core/scene/ggx_albedo_table.h (mu nodes at cell centres, alpha nodes at j / 31); the pdf of its
-// cosine sample is exact (pdf_mr), so interpolation error only moves the albedo (< 1%), never the estimator's mean.
-float ggx_albedo(float mu, float alpha) {
+// Kulla-Conty multiple scattering ("Revisiting Physically Based Shading at Imageworks", SIGGRAPH 2017):
+// single-scattering GGX reflects E(mu_o, alpha) of a white furnace (down to 0.31 at alpha 1); the energy lost between
+// microfacets is returned by f_ms = (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)), whose albedo is exactly
+// 1 - E(mu_o), scaled by the series of Fresnel-weighted bounces F_add = F_avg^2 E_avg / (1 - F_avg (1 - E_avg)):
+// for the metal F_avg = C + (1 - C) / 21 (1 for white), for the dielectric layer its Fresnel's hemispherical average
+// s (F0c + (1 - F0c) x_avg(ior)). E and E_avg are bilinear in the table of core/scene/ggx_albedo_table.h (mu nodes at
+// cell centres, alpha nodes at (j / 31)^2); the pdf of its cosine sample is exact (pdf_mr), so interpolation error only
+// moves the albedo (< 1%), never the estimator's mean.
+static_assert(kGgxAlbedoN == kGgxDielectricN, "the two albedo tables share their mu and alpha nodes");
+// Bilinear in a [alpha][mu] table with the nodes above (not clamped).
+float residual_lookup(const float (*t)[kGgxAlbedoN], float mu, float alpha) {
     constexpr int n = kGgxAlbedoN;
     if (!(mu >= 0.f)) mu = 0.f;  // NaN too: the int conversions below must see a finite value
     if (!(alpha >= 0.f)) alpha = 0.f;
     // Linear extrapolation over the half cells outside the outer mu nodes (E rises again toward grazing).
     const float x = glm::clamp(mu * float(n) - 0.5f, -0.5f, float(n) - 0.5f);
-    const float y = glm::clamp(alpha * float(n - 1), 0.f, float(n - 1));
+    const float y = glm::clamp(std::sqrt(alpha) * float(n - 1), 0.f, float(n - 1));  // roughness nodes
     const int x0 = glm::clamp(int(x), 0, n - 2), y0 = glm::min(int(y), n - 2);
     const float tx = x - float(x0), ty = y - float(y0);
-    const float a = glm::mix(kGgxAlbedo[y0][x0], kGgxAlbedo[y0][x0 + 1], tx);
-    const float b = glm::mix(kGgxAlbedo[y0 + 1][x0], kGgxAlbedo[y0 + 1][x0 + 1], tx);
-    return glm::clamp(glm::mix(a, b, ty), 0.f, 1.f);
+    const float a = glm::mix(t[y0][x0], t[y0][x0 + 1], tx);
+    const float b = glm::mix(t[y0 + 1][x0], t[y0 + 1][x0 + 1], tx);
+    return glm::mix(a, b, ty);
 }
-float ggx_albedo_avg(float alpha) {
+// An albedo: the same, clamped to [0, 1].
+float table_lookup(const float (*t)[kGgxAlbedoN], float mu, float alpha) {
+    return glm::clamp(residual_lookup(t, mu, alpha), 0.f, 1.f);
+}
+float avg_lookup(const float* t, float alpha) {
     constexpr int n = kGgxAlbedoN;
     if (!(alpha >= 0.f)) alpha = 0.f;
-    const float y = glm::clamp(alpha * float(n - 1), 0.f, float(n - 1));
+    const float y = glm::clamp(std::sqrt(alpha) * float(n - 1), 0.f, float(n - 1));  // roughness nodes
     const int y0 = glm::min(int(y), n - 2);
-    return glm::mix(kGgxAlbedoAvg[y0], kGgxAlbedoAvg[y0 + 1], y - float(y0));
+    return glm::mix(t[y0], t[y0 + 1], y - float(y0));
 }
-// The metal's multiple-scattering weight metallic * colour term / (pi (1 - E_avg)); f_ms = weight (1 - E_o)(1 - E_i).
-vec3 metal_ms_weight(const MetallicRoughness& b) {
-    const float e_avg = ggx_albedo_avg(b.alpha);
-    const vec3 f_avg = b.base_color + (vec3(1.f) - b.base_color) * (1.f / 21.f);
-    const vec3 colour = f_avg * f_avg * e_avg / (vec3(1.f) - f_avg * (1.f - e_avg));
-    return colour * (b.metallic * kInvPi / glm::max(1.f - e_avg, 1e-6f));
-}
-bool has_metal_ms(const MetallicRoughness& b) { return b.alpha > 0.f && b.has(MetallicRoughness::kMetal); }
+float ggx_albedo(float mu, float alpha) { return table_lookup(kGgxAlbedo, mu, alpha); }
+float ggx_albedo_avg(float alpha) { return avg_lookup(kGgxAlbedoAvg, alpha); }
 
+// The dielectric layer's reflectance as one white furnace sees it (core/scene/ggx_dielectric_table.h): its Fresnel
+// is s (F0c + (1 - F0c) x) with x = (F_exact - f0) / (1 - f0), so its single-scattering albedo is
+// s (F0c E(mu) + (1 - F0c) E_x(mu)), E_x trilinear in (ior, alpha, mu); an IOR below 1 (an opaque surface facing a
+// denser medium) uses 1 / ior's nodes and one above 3 the last (approximations: the base weight stays reciprocal and
+// <= 1, only the furnace's sum departs from 1). Smooth (alpha 0): the exact Fresnel of the delta lobe and its average.
+struct Layer {
+    bool present = false;
+    vec3 e_avg{0.f};  // hemispherical average of e(mu) (with the multiple scattering)
+    vec3 f_add{0.f};  // the dielectric's Kulla-Conty colour term F_add (0 when smooth)
+    float ggx_avg = 1.f, x_avg_alpha = 0.f;
+    float ior = 1.f;  // >= 1: the IOR of the table's x
+    int k0 = 0;
+    float kt = 0.f;
+};
+Layer layer_of(const MR& b) {
+    Layer l;
+    if (!b.has(MR::kSpecular)) return l;
+    l.present = true;
+    l.ior = b.ior < 1.f ? 1.f / b.ior : b.ior;
+    const float y =
+        glm::clamp((l.ior - 1.f) * 0.5f * float(kGgxDielectricIorN - 1), 0.f, float(kGgxDielectricIorN - 1));
+    l.k0 = glm::min(int(y), kGgxDielectricIorN - 2);
+    l.kt = y - float(l.k0);
+    const float x_avg = glm::mix(kFresnelDielectricAvg[l.k0], kFresnelDielectricAvg[l.k0 + 1], l.kt);
+    const vec3 f0c = b.spec_f0, f_avg = b.specular * (f0c + (vec3(1.f) - f0c) * x_avg);
+    if (b.alpha == 0.f) {
+        l.e_avg = f_avg;
+        return l;
+    }
+    l.ggx_avg = ggx_albedo_avg(b.alpha);
+    l.x_avg_alpha = glm::mix(avg_lookup(kGgxDielectricAlbedoAvg[l.k0], b.alpha),
+                             avg_lookup(kGgxDielectricAlbedoAvg[l.k0 + 1], b.alpha), l.kt);
+    l.f_add = f_avg * f_avg * l.ggx_avg / (vec3(1.f) - f_avg * (1.f - l.ggx_avg));
+    l.e_avg = b.specular * (f0c * l.ggx_avg + (vec3(1.f) - f0c) * l.x_avg_alpha) + l.f_add * (1.f - l.ggx_avg);
+    return l;
+}
+// The layer's directional albedo at mu (eta: the relative IOR on wo's side, for the smooth layer's exact Fresnel).
+// E_x = E x(mu) + residual: the exact normalised Fresnel x(mu) carries the steep rise toward grazing (and makes
+// roughness 0 the limit), the tabulated residual what the microfacets' spread of wo.h adds to it.
+vec3 layer_albedo(const MR& b, const Layer& l, float mu, float eta) {
+    if (b.alpha == 0.f) return fresnel_layer(b, mu, eta);
+    const float e = ggx_albedo(mu, b.alpha);
+    const float x = b.f0 < 1.f ? glm::clamp((fresnel_dielectric(mu, l.ior) - b.f0) / (1.f - b.f0), 0.f, 1.f) : 0.f;
+    const float ex = e * x + glm::mix(residual_lookup(kGgxDielectricAlbedo[l.k0], mu, b.alpha),
+                                      residual_lookup(kGgxDielectricAlbedo[l.k0 + 1], mu, b.alpha), l.kt);
+    return b.specular * (b.spec_f0 * e + (vec3(1.f) - b.spec_f0) * ex) + l.f_add * (1.f - e);
+}
+// The Lambert base under the layer, albedo-scaled (Kulla-Conty's reciprocal form): weight
+// (1 - e(mu_o)) (1 - e(mu_i)) / (1 - e_avg), whose albedo is exactly 1 - e(mu_o): what the layer does not reflect.
+vec3 base_weight(const MR& b, const Layer& l, float cos_o, float cos_i, float eta) {
+    if (!l.present) return vec3(1.f);
+    const vec3 t_o = glm::max(vec3(1.f) - layer_albedo(b, l, cos_o, eta), vec3(0.f));
+    const vec3 t_i = glm::max(vec3(1.f) - layer_albedo(b, l, cos_i, eta), vec3(0.f));
+    return t_o * t_i / glm::max(vec3(1.f) - l.e_avg, vec3(1e-6f));
+}
+// The multiple-scattering lobe's weight, the metal's and the dielectric layer's colour terms mixed by metallic, over
+// pi (1 - E_avg); f_ms = weight (1 - E_o)(1 - E_i).
+vec3 ms_weight(const MetallicRoughness& b, const Layer& l) {
+    vec3 colour(0.f);
+    const float e_avg = ggx_albedo_avg(b.alpha);
+    if (b.has(MR::kMetal)) {
+        const vec3 f_avg = b.base_color + (vec3(1.f) - b.base_color) * (1.f / 21.f);
+        colour += b.metallic * f_avg * f_avg * e_avg / (vec3(1.f) - f_avg * (1.f - e_avg));
+    }
+    if (l.present) colour += (1.f - b.metallic) * l.f_add;
+    return colour * (kInvPi / glm::max(1.f - e_avg, 1e-6f));
+}
+bool has_ms(const MetallicRoughness& b) {
+    return b.alpha > 0.f && (b.has(MetallicRoughness::kMetal) || b.has(MetallicRoughness::kSpecular));
+}
 // wo and wi seen from wo's side (wo.z >= 0), and the relative IOR there.
 struct Side {
     vec3 wo, wi;
@@ -95,15 +167,15 @@ Side side_of(const MR& b, vec3 wo, vec3 wi) {
 struct LobeProbs {
     float r = 0.f, m = 0.f, d = 0.f, t = 0.f;
 };
-LobeProbs lobe_probs(const MR& b, float cos_o, float eta) {
+LobeProbs lobe_probs(const MR& b, const Layer& l, float cos_o, float eta) {
     constexpr float kFloor = 1e-3f;
     LobeProbs p;
-    const vec3 fl = fresnel_layer(b, cos_o, eta);
+    const vec3 fl = l.present ? layer_albedo(b, l, cos_o, eta) : vec3(0.f);
     if (b.has(MR::kSpecular) || b.has(MR::kMetal)) p.r = glm::max(luminance(fresnel_reflect(b, cos_o, eta)), kFloor);
     const float base = (1.f - b.metallic) * luminance(b.base_color * (vec3(1.f) - fl));
     if (b.has(MR::kDiffuse)) p.d = glm::max((1.f - b.transmission) * base, kFloor);
     if (b.has(MR::kTransmission)) p.t = glm::max(b.transmission * base, kFloor);
-    if (has_metal_ms(b)) p.m = luminance(metal_ms_weight(b)) * kPi * (1.f - ggx_albedo(cos_o, b.alpha));
+    if (has_ms(b)) p.m = luminance(ms_weight(b, l)) * kPi * (1.f - ggx_albedo(cos_o, b.alpha));
     const float sum = p.r + p.m + p.d + p.t;
     if (!(sum > 0.f)) return LobeProbs{};
     const float inv = 1.f / sum;
@@ -148,17 +220,16 @@ bool ggx_refract(vec3 wo, vec3 wi, float alpha, float eta, Refraction& out) {
 }
 
 // eval and pdf (of the non-delta lobes) from wo's side.
-vec3 eval_side(const MR& b, const Side& s, float* pdf_out) {
+vec3 eval_side(const MR& b, const Layer& l, const Side& s, float* pdf_out) {
     const vec3 wo = s.wo, wi = s.wi;
     float pdf = 0.f;
     vec3 f(0.f);
     if (wo.z > 0.f) {
-        const LobeProbs p = pdf_out ? lobe_probs(b, wo.z, s.eta) : LobeProbs{};  // eval() needs no pdf
+        const LobeProbs p = pdf_out ? lobe_probs(b, l, wo.z, s.eta) : LobeProbs{};  // eval() needs no pdf
         if (wi.z > 0.f) {
             if (b.has(MR::kDiffuse)) {
-                const vec3 t_o = vec3(1.f) - fresnel_layer(b, wo.z, s.eta);
-                const vec3 t_i = vec3(1.f) - fresnel_layer(b, wi.z, s.eta);
-                f += ((1.f - b.metallic) * (1.f - b.transmission) * kInvPi) * b.base_color * t_o * t_i;
+                f += ((1.f - b.metallic) * (1.f - b.transmission) * kInvPi) * b.base_color *
+                     base_weight(b, l, wo.z, wi.z, s.eta);
                 pdf += p.d * cosine_hemisphere_pdf(wi.z);
             }
             if (b.alpha > 0.f && (b.lobes & (MR::kSpecular | MR::kMetal))) {
@@ -167,9 +238,9 @@ vec3 eval_side(const MR& b, const Side& s, float* pdf_out) {
                 const vec3 h = glm::normalize(wo + wi);
                 f += fresnel_reflect(b, glm::dot(wo, h), s.eta) * g;
                 pdf += p.r * pr;
-                if (has_metal_ms(b)) {
+                if (has_ms(b)) {
                     const float lost = (1.f - ggx_albedo(wo.z, b.alpha)) * (1.f - ggx_albedo(wi.z, b.alpha));
-                    f += metal_ms_weight(b) * lost;
+                    f += ms_weight(b, l) * lost;
                     pdf += p.m * cosine_hemisphere_pdf(wi.z);
                 }
             }
@@ -241,13 +312,13 @@ namespace detail {
 
 vec3 eval_mr(const MetallicRoughness& b, vec3 wo, vec3 wi) {
     if (b.lambert_only) return lambert_eval(b.base_color, wo, wi);
-    return eval_side(b, side_of(b, wo, wi), nullptr);
+    return eval_side(b, layer_of(b), side_of(b, wo, wi), nullptr);
 }
 
 float pdf_mr(const MetallicRoughness& b, vec3 wo, vec3 wi) {
     if (b.lambert_only) return lambert_pdf(wo, wi);
     float pdf = 0.f;
-    eval_side(b, side_of(b, wo, wi), &pdf);
+    eval_side(b, layer_of(b), side_of(b, wo, wi), &pdf);
     return pdf;
 }
 
@@ -257,11 +328,12 @@ std::optional<BsdfSample> sample_mr(const MetallicRoughness& b, vec3 wo_in, floa
     const Side s = side_of(b, wo_in, vec3(0.f));
     const vec3 wo = s.wo;
     const float cos_o = wo.z;
-    const LobeProbs p = lobe_probs(b, cos_o, s.eta);
+    const Layer l = layer_of(b);
+    const LobeProbs p = lobe_probs(b, l, cos_o, s.eta);
     const bool delta = b.alpha == 0.f;
     auto finish = [&](vec3 wi, vec3 f, float pdf, bool is_delta, float eta) -> std::optional<BsdfSample> {
         if (s.flipped) wi.z = -wi.z;
-        if (!is_delta) f = eval_side(b, side_of(b, wo_in, wi), &pdf);
+        if (!is_delta) f = eval_side(b, l, side_of(b, wo_in, wi), &pdf);
         if (!(pdf > 0.f) || !is_finite(f)) return std::nullopt;
         return BsdfSample{f, wi, pdf, is_delta, eta};
     };

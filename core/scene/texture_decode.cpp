@@ -6,6 +6,7 @@
 
 #include <png.h>
 #include <stb_image.h>
+#include <webp/decode.h>
 
 #include <algorithm>
 #include <cctype>
@@ -27,7 +28,7 @@
 namespace pv {
 namespace {
 
-enum class Format { Png, Jpeg, Gif, Bmp, Psd, Pic, Pnm, Hdr, Exr, Other };
+enum class Format { Png, Jpeg, Gif, Bmp, Psd, Pic, Pnm, Hdr, Exr, Webp, Other };
 
 bool starts_with(const std::string& s, const char* magic, size_t n) {
     return s.size() >= n && s.compare(0, n, magic, n) == 0;
@@ -45,6 +46,7 @@ Format sniff(const std::string& b) {
     if (starts_with(b, "P5", 2) || starts_with(b, "P6", 2)) return Format::Pnm;
     if (starts_with(b, "#?RADIANCE\n", 11) || starts_with(b, "#?RGBE\n", 7)) return Format::Hdr;
     if (starts_with(b, "\x76\x2f\x31\x01", 4)) return Format::Exr;
+    if (b.size() >= 12 && starts_with(b, "RIFF", 4) && b.compare(8, 4, "WEBP") == 0) return Format::Webp;
     return Format::Other;  // TGA has no magic number
 }
 
@@ -71,6 +73,8 @@ double pixels_per_byte(Format f) {
             return 16.0;
         case Format::Exr:
             return kExrPixelsPerByte;
+        case Format::Webp:
+            return 4096.0;  // lossless WebP's colour cache and backward references: a run of pixels in a few bits
         default:
             return 4096.0;
     }
@@ -80,7 +84,8 @@ double pixels_per_byte(Format f) {
 std::string readable_reason(const char* stb) {
     const std::string r = stb ? stb : "";
     if (r == "unknown image type")
-        return "unknown or unsupported image format; expected PNG, JPEG, TGA, BMP, PSD, GIF, PNM (P5/P6), HDR or EXR";
+        return "unknown or unsupported image format; expected PNG, JPEG, WebP, TGA, BMP, PSD, GIF, PNM (P5/P6), HDR or "
+               "EXR";
     if (r == "outofmem") return "out of memory";
     bool printable = !r.empty();
     for (unsigned char c : r) printable = printable && c >= 0x20 && c < 0x7f;
@@ -434,17 +439,51 @@ Texture decode_png(const std::string& bytes, const std::string& path, bool alpha
 
 }  // namespace
 
+std::string read_image_file(const std::string& path, const char* what) {
+    const std::string head = read_regular_file_prefix(path, size_t(1) << 16, what);
+    const Format format = sniff(head);
+    const uint64_t size = regular_file_size(path, what);
+    constexpr uint64_t kSlack = uint64_t(64) << 20;
+    uint64_t need = image_limits().max_pixels * 16 + kSlack;  // the largest file the budget can need
+    int w = 0, h = 0, n = 0;
+    if (format != Format::Exr &&
+        stbi_info_from_memory(reinterpret_cast<const stbi_uc*>(head.data()), int(head.size()), &w, &h, &n)) {
+        check_declared_size(path, w, h, size, pixels_per_byte(format));
+        need = std::min(need, uint64_t(w) * uint64_t(h) * 16 + kSlack);
+        if (size > need)
+            throw Error(path + ": the file is " + std::to_string(size) + " bytes; a " + std::to_string(w) + "x" +
+                        std::to_string(h) + " image needs at most " + std::to_string(need));
+    } else if (format == Format::Webp) {  // stb_image does not read WebP: its header, through libwebp
+        WebPBitstreamFeatures features;
+        if (WebPGetFeatures(reinterpret_cast<const uint8_t*>(head.data()), head.size(), &features) != VP8_STATUS_OK)
+            throw Error(path + ": cannot read image: corrupt or unsupported WebP header");
+        check_declared_size(path, features.width, features.height, size, pixels_per_byte(format));
+        // A RIFF file states its own length: nothing past it is read.
+        need = std::min(need, uint64_t(uint8_t(head[4])) | uint64_t(uint8_t(head[5])) << 8 |
+                                  uint64_t(uint8_t(head[6])) << 16 | uint64_t(uint8_t(head[7])) << 24);
+        need += 8;
+    } else if (format == Format::Other) {
+        throw Error(path + ": cannot read image: " + readable_reason(stbi_failure_reason()));
+    }
+    return read_regular_file(path, need, what);
+}
+
+bool image_header_size(const unsigned char* bytes, size_t size, int& width, int& height) {
+    int n = 0;
+    return size <= size_t(std::numeric_limits<int>::max()) && size >= 4 &&
+           std::memcmp(bytes, "\x76\x2f\x31\x01", 4) != 0 &&
+           stbi_info_from_memory(bytes, int(size), &width, &height, &n) != 0;
+}
+
 Texture Texture::load(const std::string& path, bool alpha_only, std::vector<std::string>* warnings) {
-    const char* what = "an image (PNG, JPEG, TGA, BMP, PSD, GIF, PNM, HDR or EXR)";
+    const char* what = "an image (PNG, JPEG, WebP, TGA, BMP, PSD, GIF, PNM, HDR or EXR)";
     // An EXR is read by OpenEXR from the file, not copied into memory first.
     if (sniff(read_regular_file_prefix(path, 4, what)) == Format::Exr) {
         int w = 0, h = 0;
         std::vector<vec4> texels = read_exr_rgba(path, w, h);
         return from_exr_texels(std::move(texels), w, h);
     }
-    // The largest file the budget can need: 16 bytes a pixel (16-bit RGBA PSD/PNM) and headers.
-    const uint64_t max_bytes = image_limits().max_pixels * 16 + (uint64_t(64) << 20);
-    return decode(read_regular_file(path, max_bytes, what), path, alpha_only, warnings);
+    return decode(read_image_file(path, what), path, alpha_only, warnings);
 }
 
 Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_only,
@@ -458,6 +497,18 @@ Texture Texture::decode(std::string bytes, const std::string& path, bool alpha_o
     if (format == Format::Exr) {
         texels = decode_exr_rgba(bytes, path, w, h);
         return from_exr_texels(std::move(texels), w, h);
+    }
+    if (format == Format::Webp) {
+        // libwebp reads the dimensions from the header; the budget is checked before anything is decoded.
+        const auto* data = reinterpret_cast<const uint8_t*>(bytes.data());
+        WebPBitstreamFeatures features;
+        if (WebPGetFeatures(data, bytes.size(), &features) != VP8_STATUS_OK)
+            throw Error(path + ": cannot read image: corrupt or unsupported WebP header");
+        check_declared_size(path, features.width, features.height, bytes.size(), pixels_per_byte(format));
+        std::unique_ptr<uint8_t, void (*)(void*)> px(WebPDecodeRGBA(data, bytes.size(), &w, &h), &WebPFree);
+        if (!px) throw Error(path + ": cannot read image: corrupt or truncated WebP data");
+        bytes = std::string();
+        return from_rgba8(px.get(), w, h, features.has_alpha ? 4 : 3, alpha_only);
     }
     if (format == Format::Jpeg || format == Format::Png) {
         std::vector<std::string> found;

@@ -13,7 +13,7 @@
 #include "tests/fuzz/fuzz_scene_checks.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-    if (size > (1u << 16)) return 0;  // keep inputs small: the interesting bugs are in the parsing
+    if (size > (1u << 20)) return 0;  // up to 1 MiB (make test-fuzz: -max_len): large counts, deep nesting
     const std::string bytes(reinterpret_cast<const char*>(data), size);
     pv::Scene scene;
     try {

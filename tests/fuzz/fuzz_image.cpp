@@ -1,8 +1,9 @@
 // tests/fuzz/fuzz_image.cpp: libFuzzer entry point over pathview's image loaders (Texture::decode): format sniffing,
-// the declared-size budget, libjpeg-turbo and libpng (JPEG, PNG), the Radiance RLE walk before stb_image, stb_image's
-// TGA/BMP/PSD/GIF/PNM/HDR decoders, and the EXR header walk before OpenEXR. Bad input must end in pv::Error or a
-// texture, in bounded time and memory (libFuzzer's -timeout and -rss_limit_mb), never a crash, a sanitizer report or a
-// non-finite texel. Seeds and the issue-15 reproducers: tests/fuzz/corpus-image (tests/fuzz/make_corpus.py).
+// the declared-size budget, libjpeg-turbo, libpng and libwebp (JPEG, PNG, WebP), the Radiance RLE walk before
+// stb_image, stb_image's TGA/BMP/PSD/GIF/PNM/HDR decoders, and the EXR header walk before OpenEXR. Bad input must end
+// in pv::Error or a texture, in bounded time and memory (libFuzzer's -timeout and -rss_limit_mb), never a crash, a
+// sanitizer report or a non-finite texel. Seeds and the issue-15 reproducers: tests/fuzz/corpus-image
+// (tests/fuzz/make_corpus.py).
 #include <cstdint>
 #include <cstdlib>
 #include <string>

@@ -124,6 +124,8 @@ def main():
     rgb, rgba = pixels(w, h, 3), pixels(w, h, 4)
     # Seeds: valid images.
     put(IMG, "seed.png", png(w, h, rgba))
+    # seed.webp and seed_lossy.webp (4x4, lossless and lossy) were written by libwebp's encoder and are committed as
+    # they are: the standard library has no WebP encoder.
     put(IMG, "seed.tga", tga(w, h, rgb))
     put(IMG, "seed_rle.tga", tga(w, h, rgb, rle=True))
     put(IMG, "seed.bmp", bmp(w, h, rgb))

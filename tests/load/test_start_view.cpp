@@ -8,6 +8,7 @@
 
 #include "core/load/scene_file.h"
 #include "core/load/start_view.h"
+#include "tests/support/cli.h"
 #include "tests/support/scenes.h"
 #include "tests/support/temp_dir.h"
 
@@ -112,13 +113,26 @@ TEST(StartView, ObjectsKeepTheOutsideFramingBitForBit) {
 TEST(StartView, LoadSceneStartsFromIt) {
     const test::TestDir tmp("pathview_start_view");
     const fs::path& dir = tmp.path;
-    auto write_obj = [&](const Scene& s, const std::string& name) {
+    // With `lamp`, the last two triangles emit (an MTL with Ke).
+    auto write_obj = [&](const Scene& s, const std::string& name, bool lamp = false) {
         std::ofstream f(dir / name);
+        if (lamp) {
+            std::ofstream(dir / (name + ".mtl")) << "newmtl wall\nKd 0.8 0.8 0.8\nnewmtl lamp\nKd 0 0 0\nKe 5 5 5\n";
+            f << "mtllib " << name << ".mtl\nusemtl wall\n";
+        }
         for (const vec3& p : s.positions) f << "v " << p.x << " " << p.y << " " << p.z << "\n";
-        for (const uvec3& t : s.triangles) f << "f " << t.x + 1 << " " << t.y + 1 << " " << t.z + 1 << "\n";
+        for (size_t i = 0; i < s.triangles.size(); ++i) {
+            if (lamp && i + 2 == s.triangles.size()) f << "usemtl lamp\n";
+            const uvec3 t = s.triangles[i];
+            f << "f " << t.x + 1 << " " << t.y + 1 << " " << t.z + 1 << "\n";
+        }
         return (dir / name).string();
     };
-    const std::string room = write_obj(room_with_pillar(), "room.obj");
+    // The room with a small lamp under its ceiling, facing down.
+    Scene lit_room = room_with_pillar();
+    test::add_quad(lit_room, vec3(2.f, 2.95f, 1.f), vec3(2.5f, 2.95f, 1.f), vec3(2.5f, 2.95f, 1.5f),
+                   vec3(2.f, 2.95f, 1.5f), 0);
+    const std::string room = write_obj(lit_room, "room.obj", true);
     Scene sphere_src;
     test::add_icosphere(sphere_src, vec3(0.f), 1.f, 2, test::add_material(sphere_src, Material{}));
     const std::string sphere = write_obj(sphere_src, "sphere.obj");
@@ -138,15 +152,36 @@ TEST(StartView, LoadSceneStartsFromIt) {
     const Scene sp = load_scene(sphere);
     expect_same_camera(sp.camera, sp.framing_camera());
 
-    // Unlit, the sealed room warns that the default sky will barely light its start view; the framed sphere and a
-    // camera given in the file do not, nor does the same room open to the sky through a hole in its ceiling.
-    auto sealed_warning = [](const Scene& s) {
-        return s.default_sky_warning && s.warnings[*s.default_sky_warning].find("closed interior") != std::string::npos;
+    EXPECT_FALSE(r.default_sky_warning) << "the lamp lights it";
+
+    // Without its lamp the sealed room would be lit only by a sky that cannot reach inside: it is framed from
+    // outside, and a warning says why. A camera given in the file still wins; the sphere and the same room open to
+    // the sky through its ceiling (below) start as before, without that warning.
+    auto outside_warning = [](const Scene& s) {
+        for (const std::string& w : s.warnings)
+            if (w.find("starts outside") != std::string::npos) return true;
+        return false;
     };
-    EXPECT_TRUE(sealed_warning(r));
-    EXPECT_TRUE(sealed_warning(rj));
-    EXPECT_FALSE(sealed_warning(rc));
-    EXPECT_FALSE(sealed_warning(sp));
+    EXPECT_FALSE(outside_warning(r));
+    const Scene dark = load_scene(write_obj(room_with_pillar(), "dark_room.obj"));
+    EXPECT_TRUE(choose_start_view(dark).inside);
+    EXPECT_TRUE(choose_start_view(dark).sealed);
+    expect_same_camera(dark.camera, dark.framing_camera());
+    EXPECT_TRUE(outside_warning(dark));
+    EXPECT_TRUE(dark.default_sky_warning);
+    std::ofstream(dir / "dark_room.json") << R"({"obj": "dark_room.obj"})";
+    const Scene dj = load_scene((dir / "dark_room.json").string());
+    expect_same_camera(dj.camera, dark.framing_camera());
+    EXPECT_TRUE(outside_warning(dj));
+    // A material override that makes its walls emit lets it start inside again.
+    std::ofstream(dir / "dark_room_lit.json")
+        << R"({"obj": "dark_room.obj", "materials": {"default": {"emission": [0.1, 0.1, 0.1]}}})";
+    const Scene dl = load_scene((dir / "dark_room_lit.json").string());
+    expect_same_camera(dl.camera, choose_start_view(dl).camera);
+    EXPECT_TRUE(choose_start_view(dl).inside);
+    EXPECT_FALSE(outside_warning(dl));
+    EXPECT_FALSE(outside_warning(rc));
+    EXPECT_FALSE(outside_warning(sp));
     EXPECT_TRUE(sp.default_sky_warning) << "the sphere is lit by the default sky too";
     // A tall court open at the top (an atrium): inside, but the sky reaches the eye directly.
     Scene atrium_src;
@@ -156,8 +191,37 @@ TEST(StartView, LoadSceneStartsFromIt) {
     EXPECT_FALSE(atrium.sealed);
     const Scene ra = load_scene(write_obj(atrium_src, "atrium.obj"));
     EXPECT_TRUE(ra.default_sky_warning);
-    EXPECT_FALSE(sealed_warning(ra));
+    EXPECT_FALSE(outside_warning(ra));
+    expect_same_camera(ra.camera, atrium.camera);
     fs::remove_all(dir);
+}
+
+// pathview render's hint when the scene's own lights leave the view dark (no sky or sun): a floor lit by a lamp of a
+// few square centimetres far above gets it, in one line naming the way out; the same scene with --environment 0.5,
+// and the built-in Cornell box, do not.
+TEST(StartView, RenderHintsAtFillLightWhenTheSceneLightsLeaveTheViewDark) {
+    const test::TestDir dir("pathview_dark_hint");
+    dir.write("dark.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 1 1 1\n");
+    const std::string obj = dir.write("dark.obj",
+                                      "mtllib dark.mtl\n"
+                                      "v -10 0 -10\nv 10 0 -10\nv 10 0 10\nv -10 0 10\n"
+                                      "v -0.1 5 -0.1\nv 0.1 5 -0.1\nv 0.1 5 0.1\nv -0.1 5 0.1\n"
+                                      "usemtl floor\nf 1 4 3 2\nusemtl lamp\nf 5 6 7 8\n");
+    const std::string out = (dir.path / "o.exr").string();
+    const std::string flags = " --spp 4 --width 32 --height 24 -o '" + out + "'";
+    const test::RunResult dark = test::run_command(PATHVIEW_BINARY, "render '" + obj + "'" + flags);
+    ASSERT_EQ(dark.exit_code, 0) << dark.err;
+    const size_t at = dark.err.find("pathview: hint: the image is dark (mean displayed luminance ");
+    ASSERT_NE(at, std::string::npos) << dark.err;
+    EXPECT_NE(dark.err.find("--environment sky adds the default sky, --environment 0.5 a neutral grey fill\n", at),
+              std::string::npos)
+        << dark.err;
+    const test::RunResult filled = test::run_command(PATHVIEW_BINARY, "render '" + obj + "' --environment 0.5" + flags);
+    ASSERT_EQ(filled.exit_code, 0) << filled.err;
+    EXPECT_EQ(filled.err.find("hint"), std::string::npos) << filled.err;
+    const test::RunResult cornell = test::run_command(PATHVIEW_BINARY, "render" + flags);
+    ASSERT_EQ(cornell.exit_code, 0) << cornell.err;
+    EXPECT_EQ(cornell.err.find("hint"), std::string::npos) << cornell.err;
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 // defaults and of strings from before the sky guide and the light tree is unchanged (existing partial files read).
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <set>
+#include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -12,29 +14,12 @@
 #include "core/base/error.h"
 #include "core/partial/partial.h"
 #include "core/render/settings.h"
+#include "support/field_count.h"
 
 namespace pv {
 namespace {
 
-// The number of fields of an aggregate, counted by the longest brace list that initialises it (each element
-// converts to any field type): independent of for_each_setting, so a field left out of the table shows.
-struct AnyField {
-    template <class T>
-    constexpr operator T() const {
-        return T{};
-    }
-};
-template <class T, class Seq, class = void>
-struct BraceInit : std::false_type {};
-template <class T, size_t... I>
-struct BraceInit<T, std::index_sequence<I...>, std::void_t<decltype(T{(void(I), AnyField{})...})>> : std::true_type {};
-template <class T, size_t N = 0>
-constexpr size_t field_count() {
-    if constexpr (BraceInit<T, std::make_index_sequence<N + 1>>::value)
-        return field_count<T, N + 1>();
-    else
-        return N;
-}
+using test::field_count;
 
 // `s` with the table's field `f` changed to another value (another word, or the number plus one).
 template <class Field>
@@ -136,6 +121,36 @@ TEST(SettingsTable, TextOtherThanDescribeIsRefused) {
         EXPECT_EQ(std::string(e.what()),
                   "part.exr: settings '" + good + " x' are not understood by " + partial_version());
     }
+}
+
+// README's "estimator" row of the options table is what the table says: each flag in order with its distinct words
+// (the first word of each value) or N for a number. A flag added to the table and not to README fails here.
+TEST(SettingsTable, ReadmeEstimatorRowIsTheTable) {
+    std::string row = "| estimator |";
+    bool first = true;
+    for_each_setting([&](const auto& f) {
+        row += first ? " `" : " ";
+        first = false;
+        row += f.flag;
+        if (f.names == nullptr) {
+            row += " N";
+            return;
+        }
+        std::string words;
+        for (size_t i = 0; i < f.name_count; ++i) {
+            bool seen = false;
+            for (size_t j = 0; j < i; ++j) seen = seen || f.names[j].value == f.names[i].value;
+            if (!seen) words += (words.empty() ? " " : "\\|") + std::string(f.names[i].name);
+        }
+        row += words;
+    });
+    row += "` |";
+    std::ifstream readme(std::string(PATHVIEW_SOURCE_DIR) + "/README.md");
+    ASSERT_TRUE(readme) << PATHVIEW_SOURCE_DIR "/README.md";
+    std::string line, found;
+    while (std::getline(readme, line))
+        if (line.rfind("| estimator |", 0) == 0) found = line;
+    EXPECT_EQ(found, row);
 }
 
 }  // namespace
