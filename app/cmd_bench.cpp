@@ -151,9 +151,9 @@ void add_bench_command(CLI::App& app) {
         "time budget; table, equal-time comparison, slopes, CSV and SVG. Default: the built-in Cornell box "
         "at 128x128, 12 configurations x 4 seeds x 0.5 s, a 4096 spp reference (about a minute on 2 cores). SCENE may "
         "also be large-mesh (generated: the "
-        "Cornell box with a 1M-triangle displaced sphere), many-lights (assets/many-lights: 320 small lamps) or "
+        "Cornell box with a 1M-triangle displaced sphere), many-lights (assets/many-lights: 320 small lamps), "
         "compressed-instanced (assets/compressed-instanced: a compressed mesh placed 400 times; load time and memory "
-        "printed)");
+        "printed) or fog-box (assets/fog-box: the Cornell box in fog with a point lamp)");
     add_common_options(*cmd, o->common);
     auto* ref = cmd->add_option("--reference", o->reference, "Reference EXR (same size) instead of rendering one");
     cmd->add_option("--reference-spp", o->reference_spp, "Samples per pixel of the rendered reference")

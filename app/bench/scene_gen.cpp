@@ -85,6 +85,13 @@ std::optional<Scene> generated_scene(const std::string& keyword) {
         s.source = "many-lights (assets/many-lights: 320 lamps, 2560 emissive triangles)";
         return s;
     }
+    if (keyword == "fog-box") {
+        // Shipped, made by scripts/make_fog_box.py: the Cornell box in fog with a point lamp (docs/media.md).
+        const std::filesystem::path box(builtin_scene_path());
+        Scene s = load_scene((box.parent_path().parent_path() / "fog-box" / "scene.json").string());
+        s.source = "fog-box (assets/fog-box: the Cornell box in fog, a point lamp inside)";
+        return s;
+    }
     if (keyword != "large-mesh") return std::nullopt;
     Scene s = load_scene(builtin_scene_path());
     Material white;

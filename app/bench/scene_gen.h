@@ -16,6 +16,8 @@ namespace pv {
 //   "compressed-instanced": assets/compressed-instanced/scene.glb (scripts/make_compressed_showcase.sh): a
 //                 meshopt-compressed, quantized mesh placed by 400 nodes (384,002 triangles drawn); its load time,
 //                 geometry memory and peak RSS are printed and in the scene's name.
+//   "fog-box":    assets/fog-box (scripts/make_fog_box.py): the Cornell box filled with fog, lit by its ceiling light
+//                 and a point lamp inside (distance, equiangular and phase sampling; docs/media.md).
 // The scene named `keyword`, or nothing when it is not a generator keyword. Throws pv::Error if the built-in
 // Cornell box it builds on cannot be loaded.
 std::optional<Scene> generated_scene(const std::string& keyword);

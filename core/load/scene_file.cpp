@@ -115,13 +115,16 @@ json camera_json(const CameraDesc& c) {
                 {"focus_distance", c.focus_distance}};
 }
 
-// Applies a material override: the "type" chooses the BSDF, other keys set its parameters.
+HomogeneousMedium read_medium(const JsonReader& r, const json& j, const Ptr& at);
+
+// Applies a material override: the "type" chooses the BSDF, other keys set its parameters; "medium" the medium
+// inside a closed mesh of it.
 void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& at) {
     const json& o =
         r.object(j, at,
                  {"type", "base_color", "specular", "roughness", "ior", "emission", "metallic", "transmission",
                   "specular_factor", "thin_walled", "attenuation_color", "attenuation_distance", "clearcoat",
-                  "clearcoat_roughness", "sheen_color", "sheen_roughness", "light_group"});
+                  "clearcoat_roughness", "sheen_color", "sheen_roughness", "light_group", "medium"});
     BsdfParams p = bsdf_params(m.bsdf);
     if (o.contains("type")) {
         const std::string type = r.string(o["type"], at / "type");
@@ -155,6 +158,7 @@ void apply_override(Material& m, const JsonReader& r, const json& j, const Ptr& 
         if (m.light_group.empty())
             r.fail(at / "light_group", "empty; expected the name of the light group its emission belongs to");
     }
+    if (o.contains("medium")) m.medium = read_medium(r, o["medium"], at / "medium");
     // A mirror's reflectance is its "specular" colour when given (the MTL's Ks), else its base colour.
     if (p.type == BsdfType::Mirror && o.contains("specular")) p.base = p.specular;
     set_bsdf(m, p);  // the one conversion (keeps a glossy material's diffuse + specular <= 1), fitted to m's textures

@@ -101,6 +101,11 @@ void hash_material(Hasher& h, const Material& m) {
         h.value(m.emissive_uv.offset);
         h.value(m.emissive_uv.set);
     }
+    if (!m.medium.empty()) {  // an interior medium: materials without one hash as before
+        h.value(m.medium.sigma_a);
+        h.value(m.medium.sigma_s);
+        h.value(m.medium.g);
+    }
 }
 
 }  // namespace

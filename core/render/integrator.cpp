@@ -43,9 +43,14 @@ void PathWalker::start(const TraceableScene& ts, const RenderSettings& settings,
     // prefetched) is still on its way from memory. The Sobol sampler draws a dimension as a function of it alone, so
     // drawing u_light for a vertex that then takes no light sample (a delta BSDF) changes nothing else; the
     // independent sampler draws in stream order and keeps the draw where it was.
-    m_fog = !ts.fog().empty();
-    m_in_solid = false;
-    m_early_sky = m_nee && !m_select_draw && sampler.kind() == SamplerKind::Sobol && !m_fog;
+    m_media = ts.has_media();
+    m_medium = ts.fog().empty() ? nullptr : &ts.fog();
+    m_equiangular = false;
+    if (m_media && settings.light_sampling) [[unlikely]]
+        for (const PunctualLight& l : ts.scene().punctual_lights)
+            m_equiangular |= l.type != PunctualLight::Type::Directional;
+    m_nesting = 0;
+    m_early_sky = m_nee && !m_select_draw && sampler.kind() == SamplerKind::Sobol && !m_media;
     m_ray = ray;
     m_L = vec3(0.f);
     m_beta = vec3(1.f);
@@ -94,9 +99,9 @@ PV_STAGE PathWalker::Next PathWalker::trace() {
     Hit& hit = m_hit;
     ++m_counters.rays;
     const bool found = ts.intersect(m_ray, hit);
-    if (m_fog && !m_in_solid) [[unlikely]] {
+    if (m_medium) [[unlikely]] {
         Next next;
-        if (fog_segment(found, found ? hit.t : std::numeric_limits<float>::infinity(), next)) return next;
+        if (medium_segment(found, found ? hit.t : std::numeric_limits<float>::infinity(), next)) return next;
     }
     if (!found) {
         escape();
@@ -287,8 +292,8 @@ PV_STAGE void PathWalker::next_event(Vertex& v, const Draws& d) {
         if (visible && v.per_hit) f = eval(v.shade(), v.wo, wi);
     }
     if (!visible || is_black(f)) return;
-    if (m_fog && !m_in_solid) [[unlikely]]
-        f *= fog_transmittance(ls.dist);
+    if (m_medium) [[unlikely]]
+        f *= medium_transmittance(ls.dist);
     // The power heuristic's weight over the light pdf, w / p_l = p_l / (p_l^2 + p_b^2): one division
     // (power_heuristic's guards: an infinite p_l weighs 1 / p_l = 0).
     const float pl = ls.pdf;
@@ -317,7 +322,7 @@ PV_STAGE void PathWalker::punctual_lights(Vertex& v) {
         if (is_black(f)) continue;
         ++m_counters.shadow_rays;
         if (m_ts->occluded(shadow_ray(v.origin_toward(ls.wi), ls))) continue;
-        const vec3 tr = m_fog && !m_in_solid ? fog_transmittance(ls.dist) : vec3(1.f);
+        const vec3 tr = m_medium ? medium_transmittance(ls.dist) : vec3(1.f);
         add(m_beta * f * std::fabs(wi.z) * ls.le * tr, m_groups ? m_groups->punctual[i] : 0);
     }
 }
@@ -342,13 +347,16 @@ PV_STAGE PathWalker::Next PathWalker::continue_path(Vertex& v, const Draws& d) {
     if ((cos_g > 0.f) != (bs->wi.z > 0.f) || cos_g == 0.f) return Next::End;  // would leak through
     m_beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
     if ((bs->wi.z > 0.f) != (v.wo.z > 0.f)) [[unlikely]] {
-        // A transmission: into or out of an absorbing solid (oriented frame: wo.z > 0 is outside).
-        const auto* mr = std::get_if<MetallicRoughness>(v.bsdf);
-        if (mr && mr->solid()) {
-            m_absorbing = v.wo.z > 0.f && !is_black(mr->sigma);
-            m_sigma = mr->sigma;
+        // A transmission: into or out of a solid (oriented frame: wo.z > 0 is outside).
+        if (m_media) [[unlikely]] {
+            cross_boundary(v.mat, v.wo.z > 0.f);
+        } else {
+            const auto* mr = std::get_if<MetallicRoughness>(v.bsdf);  // an absorbing solid (KHR_materials_volume)
+            if (mr && mr->solid()) {
+                m_absorbing = v.wo.z > 0.f && !is_black(mr->sigma);
+                m_sigma = mr->sigma;
+            }
         }
-        m_in_solid = v.wo.z > 0.f;  // entering (wo outside) or leaving a transmissive solid: the fog's rule
     }
     if (!is_finite(m_beta) || is_black(m_beta)) return Next::End;
     m_specular_bounce = bs->is_delta;
@@ -382,46 +390,104 @@ PV_STAGE bool PathWalker::roulette(uint32_t dim) {
     return true;
 }
 
-// The global medium along the segment the path has just traced (to its hit, or unbounded): a free-flight distance
-// drawn against it. True when the segment ends in the medium (next: the scattering event's outcome) or the path ends
-// there; false when the segment is passed (the throughput takes its transmittance weight) and the hit, or the escape,
-// is handled as without a medium.
-PV_STAGE bool PathWalker::fog_segment(bool hit, float t_hit, Next& next) {
-    const HomogeneousMedium& fog = m_ts->fog();
+// The path's medium along the segment it has just traced (to its hit, or unbounded): a free-flight distance drawn
+// against it. True when the segment ends in the medium (next: the scattering event's outcome) or the path ends there;
+// false when the segment is passed (the throughput takes its transmittance weight) and the hit, or the escape, is
+// handled as without a medium.
+PV_STAGE bool PathWalker::medium_segment(bool hit, float t_hit, Next& next) {
+    const HomogeneousMedium& medium = *m_medium;
     const uint32_t dim = m_sampler->reserve(kMediumDims);
     const float u_channel = m_sampler->get1d_at(dim);
     const float u_dist = m_sampler->get1d_at(dim + 1);
-    const DistanceSample ds =
-        sample_distance(fog, m_beta, hit ? t_hit : std::numeric_limits<float>::infinity(), u_channel, u_dist);
+    const float tmax = hit ? t_hit : std::numeric_limits<float>::infinity();
+    if (m_equiangular) equiangular(medium, tmax, m_sampler->get1d_at(dim + 2));
+    const DistanceSample ds = sample_distance(medium, m_beta, tmax, u_channel, u_dist);
     m_beta *= ds.weight;
     if (!is_finite(m_beta) || is_black(m_beta)) {
         next = Next::End;
         return true;
     }
     if (!ds.scattered) return false;
-    next = medium_scatter(m_ray.o + ds.t * m_ray.d);
+    next = medium_scatter(ds.t, tmax, ds.pdf);
     if (next == Next::End) return true;
     next = Next::Wait;  // the next segment is traced at the next step (m_stage is Trace)
     return true;
 }
 
-// The fog's transmittance over a shadow ray of length dist (infinite toward the environment).
-inline vec3 PathWalker::fog_transmittance(float dist) const {
-    const HomogeneousMedium& fog = m_ts->fog();
+// The path's medium's transmittance over a shadow ray of length dist (infinite toward the environment). A shadow ray
+// stops at any surface (TraceableScene::occluded), so it never crosses a medium boundary: the medium it starts in is
+// the only one along it.
+inline vec3 PathWalker::medium_transmittance(float dist) const {
+    const vec3 st = m_medium->sigma_t();
     vec3 tr(0.f);
-    for (int c = 0; c < 3; ++c) {
-        const float st = fog.sigma_t()[c];
-        tr[c] = st > 0.f ? (std::isinf(dist) ? 0.f : std::exp(-st * dist)) : 1.f;
-    }
+    for (int c = 0; c < 3; ++c) tr[c] = st[c] > 0.f ? (std::isinf(dist) ? 0.f : std::exp(-st[c] * dist)) : 1.f;
     return tr;
 }
 
-// A scattering event at p in the global medium: next-event estimation (a light sample, its shadow ray and the fog's
-// transmittance along it, weighted against phase sampling by the power heuristic), the punctual lights, then the
-// phase function's sample (weight 1: it is sampled exactly), roulette and the next ray from p.
-PV_STAGE PathWalker::Next PathWalker::medium_scatter(vec3 p) {
+// The medium stack (docs/media.md): a transmission into a closed solid (a dielectric, or a metallic-roughness
+// material that is not thin-walled: what oriented_eta tells apart) pushes its material, one out of a solid pops the
+// innermost. The path's medium is the innermost solid's interior medium, none when it has none (its
+// KHR_materials_volume attenuation, if any, then applies by Beer-Lambert), or the fog outside every solid. Deeper
+// than kMaxMediumNesting, the innermost entry is replaced; leaving with an empty stack (a path that started inside a
+// solid) leaves it in the fog.
+PV_STAGE void PathWalker::cross_boundary(const Material& mat, bool entering) {
+    if (!(oriented_eta(mat.bsdf) > 0.f)) return;  // a thin sheet: the path stays where it was
+    if (entering) {
+        if (m_nesting == kMaxMediumNesting) --m_nesting;
+        m_solids[m_nesting++] = &mat;
+    } else if (m_nesting > 0) {
+        --m_nesting;
+    }
+    m_absorbing = false;
+    if (m_nesting == 0) {
+        m_medium = m_ts->fog().empty() ? nullptr : &m_ts->fog();
+        return;
+    }
+    const Material& inner = *m_solids[m_nesting - 1];
+    m_medium = inner.medium.empty() ? nullptr : &inner.medium;
+    const auto* mr = std::get_if<MetallicRoughness>(&inner.bsdf);
+    if (!m_medium && mr && mr->solid() && !is_black(mr->sigma)) {
+        m_absorbing = true;
+        m_sigma = mr->sigma;
+    }
+}
+
+// Equiangular sampling toward each point and spot light (Kulla and Fajardo 2012; core/scene/medium.h) along the
+// segment just traced, for the light scattered once toward the path at a point of it: a second strategy beside
+// distance sampling's scattering events, whose estimate of the same light medium_scatter weighs by the power
+// heuristic against this one's pdf, as this one's is weighed against distance sampling's density (the channel-averaged
+// pdf of a scattering event at t). Skipped where a scattering event would end the path before its light samples.
+PV_STAGE void PathWalker::equiangular(const HomogeneousMedium& medium, float tmax, float u) {
+    if (m_depth >= m_settings->max_depth) return;
+    const vec3 probs = channel_probabilities(medium, m_beta);
+    const std::vector<PunctualLight>& lights = m_ts->scene().punctual_lights;
+    for (size_t i = 0; i < lights.size(); ++i) {
+        const PunctualLight& light = lights[i];
+        if (light.type == PunctualLight::Type::Directional) continue;
+        const EquiangularSegment e = equiangular_segment(m_ray.o, m_ray.d, light.position, tmax);
+        if (!e.valid()) continue;
+        const float t = sample_equiangular(e, tmax, u);
+        const float pe = equiangular_pdf(e, t);
+        const vec3 p = m_ray.o + t * m_ray.d;
+        LightSample ls;
+        if (!(pe > 0.f) || !sample_punctual(light, p, ls)) continue;
+        ++m_counters.shadow_rays;
+        if (m_ts->occluded(shadow_ray(p, ls))) continue;
+        const float w = power_heuristic(pe, distance_pdf(medium, probs, t, true));
+        add(m_beta * medium.sigma_s * medium.transmittance(t) * (hg_phase(glm::dot(m_ray.d, ls.wi), medium.g) * w / pe) *
+                ls.le * medium_transmittance(ls.dist),
+            m_groups ? m_groups->punctual[i] : 0);
+    }
+}
+
+// A scattering event at distance t along the segment in the path's medium: next-event estimation (a light sample,
+// its shadow ray and the medium's transmittance along it, weighted against phase sampling by the power heuristic),
+// the punctual lights (point and spot lights weighted against equiangular sampling), then the phase function's sample
+// (weight 1: it is sampled exactly), roulette and the next ray from the point.
+PV_STAGE PathWalker::Next PathWalker::medium_scatter(float t, float tmax, float pdf_t) {
     const TraceableScene& ts = *m_ts;
-    const HomogeneousMedium& fog = ts.fog();
+    const float g = m_medium->g;
+    const vec3 p = m_ray.o + t * m_ray.d;
     ++m_counters.vertices;
     if (m_depth >= m_settings->max_depth) return Next::End;
     Sampler& sampler = *m_sampler;
@@ -433,12 +499,12 @@ PV_STAGE PathWalker::Next PathWalker::medium_scatter(vec3 p) {
         const vec2 u_light = sampler.get2d_at(dim + 1);
         LightSample ls;
         if (ts.sample_light(p, vec3(0.f), u_select, u_light, ls, true) && !is_black(ls.le)) {
-            const float ph = hg_phase(glm::dot(d, ls.wi), fog.g);
+            const float ph = hg_phase(glm::dot(d, ls.wi), g);
             ++m_counters.shadow_rays;
             if (ph > 0.f && !ts.occluded(shadow_ray(p, ls))) {
                 const float pl = ls.pdf;
                 const float w = m_mis ? power_heuristic(pl, ph) : 1.f;
-                add(m_beta * (ph * w / pl) * ls.le * fog_transmittance(ls.dist), ls.group, ls.wi);
+                add(m_beta * (ph * w / pl) * ls.le * medium_transmittance(ls.dist), ls.group, ls.wi);
             }
         }
     }
@@ -448,13 +514,18 @@ PV_STAGE PathWalker::Next PathWalker::medium_scatter(vec3 p) {
             if (!sample_punctual(ts.scene().punctual_lights[i], p, ls)) continue;
             ++m_counters.shadow_rays;
             if (ts.occluded(shadow_ray(p, ls))) continue;
-            add(m_beta * hg_phase(glm::dot(d, ls.wi), fog.g) * ls.le * fog_transmittance(ls.dist),
+            float w = 1.f;
+            if (m_equiangular && light.type != PunctualLight::Type::Directional) {
+                const EquiangularSegment e = equiangular_segment(m_ray.o, d, light.position, tmax);
+                if (e.valid()) w = power_heuristic(pdf_t, equiangular_pdf(e, t));
+            }
+            add(m_beta * (hg_phase(glm::dot(d, ls.wi), g) * w) * ls.le * medium_transmittance(ls.dist),
                 m_groups ? m_groups->punctual[i] : 0);
         }
     // Phase sampling: the next direction.
-    const vec3 wi = sample_hg(d, fog.g, sampler.get2d_at(dim + 3));
+    const vec3 wi = sample_hg(d, g, sampler.get2d_at(dim + 3));
     m_specular_bounce = false;
-    m_prev_pdf = hg_phase(glm::dot(d, wi), fog.g);
+    m_prev_pdf = hg_phase(glm::dot(d, wi), g);
     m_prev_p = p;
     m_prev_n = vec3(0.f);
     if (!roulette(dim)) return Next::End;

@@ -37,10 +37,13 @@ struct PathCounters {
 // meaning in every sample of a pixel; a draw that a vertex does not need is skipped, not shifted.
 constexpr uint32_t kCameraDims = 2;
 constexpr uint32_t kBounceDims = 5;
-// With a global medium, each segment outside solids first draws kMediumDims (distance channel, distance); a
-// scattering event in the medium then takes a bounce block like a surface vertex (light selection, light point,
-// unused, phase direction, roulette). Scenes without a medium draw none.
-constexpr uint32_t kMediumDims = 2;
+// Each segment through a medium (the fog, or a material's interior medium) first draws kMediumDims (distance
+// channel, distance, and the equiangular distance toward point and spot lights); a scattering event in the medium then
+// takes a bounce block like a surface vertex (light selection, light point, unused, phase direction, roulette).
+// Segments outside media draw none.
+constexpr uint32_t kMediumDims = 3;
+// How many closed transmissive solids a path can be inside at once (the walker's medium stack, docs/media.md).
+constexpr int kMaxMediumNesting = 4;
 
 // Russian roulette spares paths whose throughput max(beta) x eta^2 is at least this (PathWalker::roulette; the sky
 // guide's training walks its paths with a PathWalker).
@@ -126,11 +129,18 @@ private:
     void next_event(Vertex& v, const Draws& d);
     void punctual_lights(Vertex& v);
     Next continue_path(Vertex& v, const Draws& d);
-    // The global medium (Scene::fog) along the segment to the hit (or to infinity): its free-flight distance, and a
-    // scattering event there (next-event estimation through the fog, the phase function's sample) when one is drawn.
-    bool fog_segment(bool hit, float t_hit, Next& next);
-    Next medium_scatter(vec3 p);
-    vec3 fog_transmittance(float dist) const;
+    // The path's current medium (m_medium) along the segment to the hit (or to infinity): its free-flight distance,
+    // and a scattering event there (next-event estimation through the medium, the phase function's sample) when one
+    // is drawn.
+    bool medium_segment(bool hit, float t_hit, Next& next);
+    // Single scattering toward the point and spot lights along the segment, by equiangular sampling (u), MIS-weighted
+    // against distance sampling's scattering events.
+    void equiangular(const HomogeneousMedium& medium, float tmax, float u);
+    // The scattering event at distance t of the segment (of length tmax; pdf_t: distance sampling's density there).
+    Next medium_scatter(float t, float tmax, float pdf_t);
+    vec3 medium_transmittance(float dist) const;
+    // A transmission through a surface of material mat, into its solid (entering) or out of it: the medium stack.
+    void cross_boundary(const Material& mat, bool entering);
     bool roulette(uint32_t dim);
     // The one place radiance joins the path: c, produced by a light of `group` (kEnvironmentGroup: the environment
     // toward dir, split between sky and sun), added to the path and, with light groups, to its group.
@@ -165,9 +175,13 @@ private:
     // Beer-Lambert coefficient, applied to the segment to the next hit.
     bool m_absorbing = false;
     vec3 m_sigma{0.f};
-    // The global medium: present in the scene (m_fog), and the path inside a transmissive solid (where it is not).
-    bool m_fog = false;
-    bool m_in_solid = false;
+    // Media (docs/media.md): any in the scene (m_media: the one flag a scene without media tests), the medium the
+    // path is in (nullptr: none), and the closed transmissive solids it is inside, innermost last.
+    bool m_media = false;
+    bool m_equiangular = false;  // point or spot lights, sampled (light sampling on), with media
+    const HomogeneousMedium* m_medium = nullptr;
+    const Material* m_solids[kMaxMediumNesting] = {};
+    int m_nesting = 0;
     int m_depth = 0;
     PathCounters m_counters;
     // The vertex in flight, from one stage to the next.

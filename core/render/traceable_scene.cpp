@@ -33,6 +33,7 @@ TraceableScene::TraceableScene(std::shared_ptr<const Scene> scene, const std::fu
     m_fog = m_scene->fog;
     m_environment = Environment(*m_scene, m_environment_settings);
     update_selection();
+    update_media();
 }
 
 TraceableScene::~TraceableScene() = default;
@@ -54,6 +55,12 @@ void TraceableScene::set_materials(const std::vector<Material>& materials) {
     }
     m_accel->set_materials(m_materials);  // alpha cut-outs as edited
     update_selection();
+    update_media();
+}
+
+void TraceableScene::update_media() {
+    m_has_media = !m_fog.empty() || std::any_of(m_materials.begin(), m_materials.end(),
+                                                [](const Material& m) { return !m.medium.empty(); });
 }
 
 void TraceableScene::set_environment(const EnvironmentSettings& settings) {

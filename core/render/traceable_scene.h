@@ -63,7 +63,10 @@ public:
     // Replaces the environment's parameters (sky colour, map rotation and strength, sun); the map is the scene's.
     void set_environment(const EnvironmentSettings& settings);
     // Replaces the global medium (the scene's fog at construction; the viewer edits it).
-    void set_fog(const HomogeneousMedium& fog) { m_fog = fog; }
+    void set_fog(const HomogeneousMedium& fog) {
+        m_fog = fog;
+        update_media();
+    }
 
     const Scene& scene() const { return *m_scene; }
     const std::vector<Material>& materials() const { return m_materials; }
@@ -75,6 +78,8 @@ public:
     const Environment& environment() const { return m_environment; }
     const EnvironmentSettings& environment_settings() const { return m_environment_settings; }
     const HomogeneousMedium& fog() const { return m_fog; }
+    // A medium anywhere: the fog or a material's interior medium (the walker's one flag test; docs/media.md).
+    bool has_media() const { return m_has_media; }
 
     // Closest hit and occlusion (see Accel).
     bool intersect(const Ray& ray, Hit& hit) const { return m_accel->intersect(ray, hit); }
@@ -144,6 +149,7 @@ public:
 
 private:
     void update_selection();
+    void update_media();
     // The environment's sample when the sky's sampling is a mixture with portals or the guide (u_select in [0, 1):
     // the mixture's other part or the environment, then which portal or bin).
     bool sample_environment_mixed(vec3 ref, float u_select, vec2 u, LightSample& ls) const;
@@ -170,6 +176,7 @@ private:
     LightSamplerKind m_light_sampler = LightSamplerKind::Power;
     EnvironmentSettings m_environment_settings;
     HomogeneousMedium m_fog;
+    bool m_has_media = false;
     Environment m_environment;
     float m_p_env = 0.f;
     float m_p_portal = 0.f;

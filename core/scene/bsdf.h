@@ -11,6 +11,7 @@
 #include "core/base/math.h"
 #include "core/sampling/warp.h"
 #include "core/scene/bsdf_pbr.h"
+#include "core/scene/medium.h"
 #include "core/scene/microfacet.h"
 
 namespace pv {
@@ -144,6 +145,10 @@ struct Material {
     }
     // The light group its emission is credited to (core/render/light_groups.h); empty: the material's name.
     std::string light_group;
+    // The medium inside a closed mesh of this material (docs/media.md), entered by a path that transmits through it
+    // (glass, or a metallic-roughness material with transmission); empty: none. It takes the place of the
+    // material's KHR_materials_volume attenuation.
+    HomogeneousMedium medium;
     bool has_emission() const { return !is_black(emission); }
 };
 

@@ -120,4 +120,40 @@ inline DistanceSample sample_distance(const HomogeneousMedium& m, vec3 beta, flo
     return s;
 }
 
+// Equiangular sampling (Kulla and Fajardo 2012, "Importance Sampling Techniques for Path Tracing in Participating
+// Media", sec. 4.1): a distance t in [0, tmax] along the ray o + t d (d unit, tmax may be infinite) toward a point c,
+// with density proportional to 1 / |o + t d - c|^2, which cancels the point light's inverse-square falloff. With
+// delta = dot(c - o, d) the foot of the perpendicular and h the distance from c to the line, t = delta + h tan(theta)
+// for theta uniform in [theta_a, theta_b]; pdf(t) = h / ((theta_b - theta_a) (h^2 + (t - delta)^2)).
+struct EquiangularSegment {
+    float delta = 0.f, h = 0.f;
+    float theta_a = 0.f, theta_b = 0.f;
+    bool valid() const { return h > 0.f && theta_b > theta_a; }
+};
+
+// The segment's angles as seen from c; invalid (nothing to sample) when c lies on the ray's line.
+inline EquiangularSegment equiangular_segment(vec3 o, vec3 d, vec3 c, float tmax) {
+    EquiangularSegment e;
+    e.delta = glm::dot(c - o, d);
+    e.h = glm::length(c - (o + e.delta * d));
+    if (!(e.h > 0.f) || !std::isfinite(e.h)) {
+        e.h = 0.f;
+        return e;
+    }
+    e.theta_a = std::atan2(-e.delta, e.h);
+    e.theta_b = std::isinf(tmax) ? 0.5f * kPi : std::atan2(tmax - e.delta, e.h);
+    return e;
+}
+
+inline float equiangular_pdf(const EquiangularSegment& e, float t) {
+    const float x = t - e.delta;
+    return e.h / ((e.theta_b - e.theta_a) * (e.h * e.h + x * x));
+}
+
+// The distance for u in [0, 1), clamped to [0, tmax] against rounding.
+inline float sample_equiangular(const EquiangularSegment& e, float tmax, float u) {
+    const float theta = e.theta_a + u * (e.theta_b - e.theta_a);
+    return std::clamp(e.delta + e.h * std::tan(theta), 0.f, tmax);
+}
+
 }  // namespace pv

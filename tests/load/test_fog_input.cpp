@@ -50,6 +50,35 @@ TEST(SceneFileFog, CoefficientsAlbedoAndDefaults) {
     EXPECT_EQ(c.fog.sigma_a, vec3(0.f));
 }
 
+// A material's "medium" (the medium inside a closed mesh of it) takes the fog's keys and errors.
+TEST(SceneFileFog, MaterialMedium) {
+    const std::string dir = cornell_dir() + "/medium.json";
+    const Scene s = load_scene_json_text(
+        R"({"obj": "cornell-box.obj", "materials": {"white": {"type": "glass", "ior": 1.33,
+            "medium": {"albedo": [0.9, 0.8, 0.7], "density": 2, "g": -0.2}}}})",
+        dir);
+    bool found = false;
+    for (const Material& m : s.materials) {
+        if (m.name != "white") {
+            EXPECT_TRUE(m.medium.empty()) << m.name;
+            continue;
+        }
+        found = true;
+        EXPECT_NEAR(m.medium.sigma_s.x, 1.8f, 1e-6f);
+        EXPECT_NEAR(m.medium.sigma_a.z, 0.6f, 1e-6f);
+        EXPECT_EQ(m.medium.g, -0.2f);
+    }
+    EXPECT_TRUE(found);
+    try {
+        load_scene_json_text(R"({"obj": "cornell-box.obj", "materials": {"white": {"medium": {"sigma_s": -1}}}})", dir);
+        ADD_FAILURE() << "a negative coefficient loaded";
+    } catch (const Error& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("medium.json: /materials/white/medium/sigma_s"), std::string::npos) << msg;
+        EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+}
+
 TEST(BadInputFog, SceneFileErrorsNameTheFileAndTheKey) {
     const struct {
         const char* fog;

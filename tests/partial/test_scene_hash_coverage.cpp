@@ -118,7 +118,8 @@ TEST(SceneHashCoverage, EveryFieldOfMaterialIsHashed) {
                      {"emissive_texture", [](Input& i) { i.materials[0].emissive_texture = 1; }},
                      {"emissive_uv", [](Input& i) { i.materials[0].emissive_uv.offset = vec2(0.5f); }},
                      {"normal_texture", [](Input& i) { i.materials[0].normal_texture = 1; }},
-                     {"normal_scale", [](Input& i) { i.materials[0].normal_scale = 0.5f; }}});
+                     {"normal_scale", [](Input& i) { i.materials[0].normal_scale = 0.5f; }},
+                     {"medium", [](Input& i) { i.materials[0].medium.sigma_s = vec3(0.5f); }}});
 }
 
 TEST(SceneHashCoverage, EveryParameterOfTheBsdfsIsHashed) {

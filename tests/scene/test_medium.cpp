@@ -6,9 +6,12 @@
 //  * Slab transmittance: the passing samples' mean weight is exp(-sigma_t L) per channel, and the scattering samples'
 //    mean weight is sigma_s / sigma_t (1 - exp(-sigma_t L)) per channel, each within a Sidak-corrected confidence
 //    interval from the sample variance.
+//  * Equiangular sampling (Kulla and Fajardo 2012): chi-square of the drawn distances against the pdf integrated per
+//    bin, for bounded and unbounded segments.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "core/sampling/rng.h"
@@ -105,6 +108,65 @@ TEST(Medium, SlabTransmittanceAndScatteringAreUnbiased) {
         const double se_s = std::sqrt(std::max(sq_scat[c] / kSamples - ms * ms, 0.0) / kSamples);
         EXPECT_NEAR(mp, t_exact, k * se_p + 1e-6) << "transmittance, channel " << c;
         EXPECT_NEAR(ms, s_exact, k * se_s + 1e-6) << "scattering, channel " << c;
+    }
+}
+
+// Equiangular sampling toward a point: chi-square of the drawn distances (40 bins over the segment, also over [0, 60]
+// of an unbounded one) against equiangular_pdf integrated per bin by Simpson's rule (not the sampler's own inverse),
+// and the pdf integrates to 1 over the segment; for a point beside, ahead of and behind the segment's middle.
+TEST(Medium, EquiangularSamplingMatchesItsPdf) {
+    constexpr int kBins = 40;
+    constexpr int kSamples = 200000;
+    const vec3 o(0.2f, -0.1f, 0.3f);
+    const vec3 d = glm::normalize(vec3(0.4f, 0.2f, -1.f));
+    struct Case {
+        vec3 c;
+        float tmax;
+    } cases[] = {{o + 2.f * d + vec3(0.3f, 0.f, 0.f), 4.f},   // beside the segment's middle, close
+                 {o + 6.f * d + vec3(0.f, 1.f, 0.5f), 3.f},   // ahead of the segment
+                 {o - 1.f * d + vec3(0.2f, 0.3f, 0.f), 5.f},  // behind its start
+                 {o + 1.f * d + vec3(0.f, 0.5f, 0.f), std::numeric_limits<float>::infinity()}};
+    Pcg32 rng(21, 3);
+    for (const Case& k : cases) {
+        const EquiangularSegment e = equiangular_segment(o, d, k.c, k.tmax);
+        ASSERT_TRUE(e.valid());
+        const double range = std::isinf(k.tmax) ? 60.0 : double(k.tmax);
+        auto bin_integral = [&](double a, double b) {  // composite Simpson, 200 intervals
+            constexpr int n = 200;
+            const double hstep = (b - a) / n;
+            double sum = equiangular_pdf(e, float(a)) + equiangular_pdf(e, float(b));
+            for (int i = 1; i < n; ++i) sum += (i % 2 ? 4.0 : 2.0) * equiangular_pdf(e, float(a + i * hstep));
+            return sum * hstep / 3.0;
+        };
+        std::vector<double> counts(kBins + 1, 0.0);  // the last: beyond range (unbounded segment only)
+        for (int i = 0; i < kSamples; ++i) {
+            const float t = sample_equiangular(e, k.tmax, rng.next_float());
+            ASSERT_GE(t, 0.f);
+            ASSERT_LE(t, k.tmax);
+            counts[t >= range ? kBins : std::min(kBins - 1, int(t / range * kBins))] += 1;
+        }
+        double chi2 = 0.0, total = 0.0;
+        int dof = 0;
+        for (int b = 0; b <= kBins; ++b) {
+            double p;
+            if (b < kBins) {
+                p = bin_integral(range * b / kBins, range * (b + 1) / kBins);
+                total += p;
+            } else {
+                if (!std::isinf(k.tmax)) continue;
+                p = 1.0 - total;  // the tail beyond range: what the bins leave
+            }
+            const double ex = p * kSamples;
+            ASSERT_GT(ex, 5.0) << "bin " << b;
+            chi2 += (counts[b] - ex) * (counts[b] - ex) / ex;
+            ++dof;
+        }
+        if (!std::isinf(k.tmax)) {
+            EXPECT_NEAR(total, 1.0, 1e-5) << "the pdf's integral over the segment";
+        }
+        const double p_value = test::chi2_p_value(chi2, dof - 1);
+        EXPECT_GT(p_value, test::sidak_alpha(0.01, double(std::size(cases))))
+            << "chi2 " << chi2 << " over " << dof - 1 << " degrees of freedom, tmax " << k.tmax;
     }
 }
 
