@@ -29,10 +29,19 @@ using glm::dvec4;
 // which the loader reads in every case; the two compressions are decoded by core/load/gltf_compression.cpp). Anything
 // else required is refused; anything else used is warned about.
 inline constexpr const char* kSupportedExtensions[] = {
-    "KHR_materials_emissive_strength", "KHR_texture_transform",   "KHR_materials_ior",   "KHR_materials_specular",
-    "KHR_materials_transmission",      "KHR_materials_volume",    "KHR_lights_punctual", "KHR_mesh_quantization",
-    "KHR_draco_mesh_compression",      "EXT_meshopt_compression", "EXT_texture_webp",
-    "KHR_materials_clearcoat",         "KHR_materials_sheen",
+    "KHR_materials_emissive_strength",
+    "KHR_texture_transform",
+    "KHR_materials_ior",
+    "KHR_materials_specular",
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
+    "KHR_lights_punctual",
+    "KHR_mesh_quantization",
+    "KHR_draco_mesh_compression",
+    "EXT_meshopt_compression",
+    "EXT_texture_webp",
+    "KHR_materials_clearcoat",
+    "KHR_materials_sheen",
 };
 
 // tinygltf takes a file's size as a 32-bit unsigned int and copies every buffer once more: 2 GiB of file at most.

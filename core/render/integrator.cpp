@@ -474,8 +474,8 @@ PV_STAGE void PathWalker::equiangular(const HomogeneousMedium& medium, float tma
         ++m_counters.shadow_rays;
         if (m_ts->occluded(shadow_ray(p, ls))) continue;
         const float w = power_heuristic(pe, distance_pdf(medium, probs, t, true));
-        add(m_beta * medium.sigma_s * medium.transmittance(t) * (hg_phase(glm::dot(m_ray.d, ls.wi), medium.g) * w / pe) *
-                ls.le * medium_transmittance(ls.dist),
+        add(m_beta * medium.sigma_s * medium.transmittance(t) *
+                (hg_phase(glm::dot(m_ray.d, ls.wi), medium.g) * w / pe) * ls.le * medium_transmittance(ls.dist),
             m_groups ? m_groups->punctual[i] : 0);
     }
 }
