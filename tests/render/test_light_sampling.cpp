@@ -2,6 +2,7 @@
 // pdf that LightSet::pdf gives a BSDF-found emitter (chi-square per triangle shape, including a sliver, a triangle seen
 // nearly edge-on and a point almost touching one), the solid angle matches a closed form, and both the solid-angle
 // and the area rule estimate a triangle's irradiance as Lambert's closed form gives it.
+// Test kinds: statistical
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -6,6 +6,7 @@
 //  * Slab transmittance: the passing samples' mean weight is exp(-sigma_t L) per channel, and the scattering samples'
 //    mean weight is sigma_s / sigma_t (1 - exp(-sigma_t L)) per channel, each within a Sidak-corrected confidence
 //    interval from the sample variance.
+// Test kinds: statistical
 #include <gtest/gtest.h>
 
 #include <cmath>
