@@ -2,6 +2,7 @@
 // flag on the mapping), and the data moved into them: a scene's texels (pack_texels) keep their lookups bit for bit and
 // stay valid through copies, moves and the end of the vector they were packed in; the packed hit records of a
 // TraceableScene are pack_triangles' records in a region.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cstdint>

@@ -1,5 +1,6 @@
 // tests/base/test_unit.cpp: unit tests of the pieces: warps (domain, pdf normalisation), frames, the RNG and sampler
 // (never 1.0, determinism), EXR round trip and write failures. (Thread-count determinism: test_threading.cpp.)
+// Test kinds: unit; statistical: Chi2Rng
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -122,7 +123,7 @@ TEST(Rng, NeverReturnsOne) {
     EXPECT_GT(hi, 0.999f);
 }
 
-TEST(Rng, UniformFrequencies) {
+TEST(Chi2Rng, UniformFrequencies) {
     // Chi-square of 64 equal bins over 1e6 draws; one test at alpha = 0.01.
     Pcg32 rng(42, 54);
     std::vector<double> counts(64, 0.0);

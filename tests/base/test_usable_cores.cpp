@@ -1,6 +1,7 @@
 // tests/base/test_usable_cores.cpp: "as many threads as cores" (threads = 0) means the cores this process may run on,
 // not every core of the machine: under taskset or a Slurm allocation the renderer must not oversubscribe nor report
 // threads that never ran.
+// Test kinds: unit
 #include <gtest/gtest.h>
 #include <sched.h>
 

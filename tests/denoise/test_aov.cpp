@@ -2,6 +2,7 @@
 // Cornell box's back wall; a mirror and a glass interface in front of coloured walls, whose Fresnel split is checked
 // against a binomial bound), the film's statistics layers against hand-computed sums, and the multi-layer EXR
 // round trip with its error for a mis-sized layer.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <atomic>

@@ -9,6 +9,7 @@
 //  * The a-trous filter (four 3x3 passes, up to 9 x 4 taps but stopped at 4 standard deviations of colour) must
 //    lower the relMSE at least 3x and keep the edge by the same criterion; a denoiser kept across frames gives
 //    what fresh calls give; pixels where nothing was hit pass through and do not bleed.
+// Test kinds: unit
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 

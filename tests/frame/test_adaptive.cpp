@@ -1,5 +1,6 @@
 // tests/frame/test_adaptive.cpp: adaptive sampling (the noise threshold, and allocation: AdaptiveSettings::allocate)
 // and the stratified sample-count schedule (core/frame/adaptive.h, issue 13).
+// Test kinds: unit; statistical: AdaptiveStoppingBias AdaptiveAllocationBias
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -106,7 +107,7 @@ double cornell_bias_z(const AdaptiveSettings& a, uint32_t seed_base, uint32_t pa
            std::sqrt(adaptive.variance() / double(adaptive.n) + plain.variance() / double(plain.n));
 }
 
-TEST(Adaptive, BiasBelowTheNoiseOnTheCornellBox) {
+TEST(AdaptiveStoppingBias, BiasBelowTheNoiseOnTheCornellBox) {
     AdaptiveSettings a;
     a.noise_threshold = 0.05f;
     a.min_spp = 8;
@@ -246,7 +247,7 @@ TEST(AdaptiveAllocation, ImageCombinesPilotAndMainWithFixedWeights) {
 // The weights come from the samples, which biases the estimate slightly (as stopping does). The bias must stay
 // below the noise: the total mean of allocating renders over 8 seeds agrees with uniform ones within |z| < 3.29,
 // on the Cornell box (independent samples, for the i.i.d. variance).
-TEST(AdaptiveAllocation, BiasBelowTheNoiseOnTheCornellBox) {
+TEST(AdaptiveAllocationBias, BiasBelowTheNoiseOnTheCornellBox) {
     double mean_count = 0.0;
     EXPECT_LT(std::fabs(cornell_bias_z(allocating(8), 3000, 128, 96, &mean_count)), 3.29);
     EXPECT_LT(mean_count, 120.0);  // the allocation did something

@@ -4,6 +4,7 @@
 // within 3 standard errors of the seeds' paired differences. When the allocation was decided from the samples it
 // averages (before issue 29), pixels whose first samples missed the rare bright paths looked converged and took
 // fewer samples: the image came out about 1% dark at 64 passes and this test failed.
+// Test kinds: slow
 #include <gtest/gtest.h>
 
 #include <cmath>

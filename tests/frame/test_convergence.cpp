@@ -1,6 +1,7 @@
 // tests/frame/test_convergence.cpp: the shipped sunlit room (assets/sunlit-room: lit only through its window) and the
 // Russian roulette policy's unbiasedness there (issue 13). Bounds come from the sample variance with
 // Sidak-corrected k (tests/support/stats.h); seeds are fixed.
+// Test kinds: statistical
 #include <gtest/gtest.h>
 
 #include <filesystem>

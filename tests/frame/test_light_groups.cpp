@@ -7,6 +7,7 @@
 //  * A gain k on a group is a render with that group's emission times k: the mixed image against an independent
 //    render of the scaled scene, per-pixel Welch tests and the total mean's z (tests/support/stats.h), for an
 //    emitter, the sky and the sun.
+// Test kinds: statistical
 #include <gtest/gtest.h>
 
 #include <cstring>

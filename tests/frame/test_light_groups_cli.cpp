@@ -1,6 +1,7 @@
 // tests/frame/test_light_groups_cli.cpp: `pathview render --light-groups / --light-gain` end to end: gains of 1 write
 // the image of a render without them, bit for bit; a gain changes it; bad gains, unknown groups and partial renders
 // are refused with one line and no file.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -3,6 +3,7 @@
 // No test asserts that work finishes within a wall-clock interval (issue 26): each waits for an event (a pass
 // published, a partial render made, a state reached) with kDeadline, long enough for a loaded sanitizer build;
 // a deadline that passes is a hang, not slowness.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cstring>

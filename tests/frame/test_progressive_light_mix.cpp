@@ -2,6 +2,7 @@
 // set_light_gains, docs/light-groups.md): a new mix is published without a restart or a pass (same generation and
 // sample count), its image is the synchronous Renderer's mixed film, bit for bit, and the mix with every gain 1 is the
 // image published before, bit for bit.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <chrono>

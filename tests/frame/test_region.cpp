@@ -1,6 +1,7 @@
 // tests/frame/test_region.cpp: render regions (Renderer::set_region, `pathview render --region`). Inside the region a
 // pixel takes exactly the samples of a full render, so it equals the full render's pixel bit for bit; outside no
 // sample lands. A whole-image region is the full render. Bad regions give one line and a non-zero exit.
+// Test kinds: unit
 #include <gtest/gtest.h>
 #include <unistd.h>
 

@@ -1,4 +1,5 @@
 // tests/frame/test_smoke.cpp: the built-in Cornell box loads and renders a finite image.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include "core/frame/renderer.h"

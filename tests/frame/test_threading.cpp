@@ -1,6 +1,7 @@
 // tests/frame/test_threading.cpp: random numbers depend only on (pixel, sample index, seed), so the Renderer's image is
 // bit-identical for any thread count. These suites (Threading*) also run under TSan (make test-tsan), which is why
 // they live in a file of their own: the TSan build compiles only test_threading*.cpp and test_progressive*.cpp.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cstring>

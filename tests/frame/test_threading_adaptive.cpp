@@ -1,5 +1,6 @@
 // tests/frame/test_threading_adaptive.cpp: adaptive sampling is deterministic for any thread count (the mask depends
 // only on the film). Threading* suites also run under TSan.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cstring>

@@ -1,5 +1,6 @@
 // tests/frame/test_threading_paths_in_flight.cpp: the Renderer's paths interleaved per thread (PathWalker, render_pass)
 // leave the image as it was. A test_threading* file, so the TSan build compiles and runs it.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cstring>

@@ -8,6 +8,7 @@
 //    spp) or kLowSppFactor (below).
 // The estimate is unbiased for the variance of the mean only when the halves are independent: with one Sobol net
 // over all samples, 2k and 2k+1 are antithetic and the estimate runs high by a factor that grows with spp.
+// Test kinds: statistical; slow: ErrorEstimateSlow
 #include <gtest/gtest.h>
 
 #include <cstdio>

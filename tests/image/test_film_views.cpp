@@ -1,5 +1,6 @@
 // tests/image/test_film_views.cpp: Film::views_into (what the viewer's snapshots show) agrees with Film's own mean and
 // error estimate, so the published figures are the film's, not a second computation.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include "core/image/film.h"

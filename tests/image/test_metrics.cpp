@@ -1,5 +1,6 @@
 // tests/image/test_metrics.cpp: error metrics and log-log fits used by `pathview bench` (relMSE against a reference,
 // log-log slopes, efficiency as 1 / (error x time)).
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include "core/base/error.h"

@@ -1,6 +1,7 @@
 // tests/image/test_ocio_view.cpp: OpenColorIO configs and views (core/image/ocio_view.h) with a config the test
 // writes: the sRGB view agrees with pathview's own sRGB encoding, the 2.2 gamma view with x^(1/2.2), the baked
 // LUT the viewer samples with the processor, and bad configs, displays and views are one-line errors naming the file.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cmath>

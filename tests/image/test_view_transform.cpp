@@ -4,6 +4,7 @@
 // sigmoid; Narkowicz's ACES fit; IEC 61966-2-1), independently of the float code and its pre-multiplied constants,
 // and the float code must agree within float rounding. Plus the published reference points (PBR Neutral's exact
 // reproduction of base colours in [0.08, 0.8]; AgX's middle grey 0.18 -> 0.18^(1/2.4), -10 and +6.5 stops).
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -2,6 +2,7 @@
 // from `render` or `merge` holds exactly core's display_bytes of the linear image (the function the viewer's PNG
 // snapshots go through), the EXR beside it stays linear whatever the transform, and bad flags are one-line errors
 // before anything is rendered or written.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <filesystem>

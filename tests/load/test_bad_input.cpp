@@ -2,6 +2,7 @@
 // ASan/UBSan). Each file in tests/data gives pv::Error naming the file and line, or loads with the documented warning;
 // none crashes. Then the CLI: `pathview render` with a missing scene or an unwritable output exits non-zero with one
 // line naming the file.
+// Test kinds: regression
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -1,5 +1,6 @@
 // tests/load/test_fog_input.cpp: the global medium as the scene file's "fog" and as --fog of render and bench (issue
 // 38): parsed values, one-line errors naming the file and the key, and the flag reaching the rendered image.
+// Test kinds: unit; regression: BadInputFog
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -3,6 +3,7 @@
 // triangles of its uncompressed original within the dequantization rounding of its positions; malformed compressed
 // data (truncated streams, counts past a buffer, unknown attribute ids, decoded sizes over the budget) ends in one
 // line naming the file and the JSON pointer; the compressed, instanced showcase (assets/compressed-instanced) loads.
+// Test kinds: unit; regression: UntrustedCompressed UntrustedWebp
 #include <gtest/gtest.h>
 #include <webp/encode.h>
 

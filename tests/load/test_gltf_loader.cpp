@@ -3,6 +3,7 @@
 // accessors, strips and fans, cameras; damaged files end in one line naming the file and the JSON path, within
 // little memory; and the Cornell box written as glTF renders the OBJ's image within noise, its .glb and .gltf forms
 // bit for bit alike.
+// Test kinds: unit; statistical: GltfCornellBox LightSamplingEmissiveTexture
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/wait.h>

@@ -1,4 +1,5 @@
 // test_loader_bounds.cpp: the numeric bounds a scene file states are the bounds it applies (issue 41 item 5).
+// Test kinds: regression
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <zlib.h>

@@ -1,6 +1,8 @@
 // tests/load/test_real_scenes.cpp: what archive scenes need (issue 6): textures and their lookup, alpha cut-outs,
 // environment maps (sampling chi-square, analytic irradiance), large meshes in bounded memory, MTL quirks.
 // Bounds come from the sample variance with Sidak-corrected k (tests/support/stats.h); seeds are fixed.
+// Test kinds: unit; statistical: EnvironmentMapSampling; analytic: EnvironmentIrradiance AlphaCutOut
+// Test kinds: regression: MtlQuirks LoaderLimits; slow: LargeMeshSlow
 #include <gtest/gtest.h>
 
 #include <array>
@@ -159,7 +161,7 @@ TEST(Textures, MissingTextureWarnsOnceAndKeepsTheFlatColour) {
 // A black occluder with opacity `alpha` (a 1x1 map_d) between a receiver and a white sky: the receiver's
 // radiance is (1 - alpha * covered) where `covered` is the fraction of cosine-weighted sky the occluder spans.
 // Exercises bounce rays (BSDF sampling) and shadow rays (light sampling) through the cut-out.
-TEST(Textures, AlphaCutOutPassesLightInProportion) {
+TEST(AlphaCutOut, AlphaCutOutPassesLightInProportion) {
     TempDir dir;
     const float alpha = 0.3f;
     // map_d without an alpha channel uses the raw grey byte. write_png applies the sRGB curve, so hand it the
@@ -236,7 +238,7 @@ TEST(Environment, UvDirectionRoundTrip) {
 // Not tests/support/chi2.h: a lat-long map's solid-angle pdf has an integrable 1/sin(theta) singularity at the
 // poles, which that harness's adaptive Simpson (evaluating on cell edges) chases without end; the midpoint rule on
 // a fine sub-grid never evaluates at the pole and converges.
-TEST(Environment, SamplingMatchesPdfChiSquare) {
+TEST(EnvironmentMapSampling, SamplingMatchesPdfChiSquare) {
     const int maps = 2;
     for (int t = 0; t < maps; ++t) {
         auto scene = scene_with_map(t == 0 ? 16 : 7, t == 0 ? 8 : 5, t == 0 ? 0.f : 77.f);
@@ -315,7 +317,7 @@ TEST(Environment, SamplingMatchesPdfChiSquare) {
 // A white diffuse plane under a non-uniform map: its radiance is (1/pi) * E with E = integral of L cos over the
 // upper hemisphere, which for a per-texel-constant map is an exact sum over texels. NEE-only, BSDF-only and MIS
 // must all converge to it.
-TEST(Environment, DiffusePlaneUnderMapMatchesAnalyticIrradiance) {
+TEST(EnvironmentIrradiance, DiffusePlaneUnderMapMatchesAnalyticIrradiance) {
     auto scene = scene_with_map(16, 8, 40.f);
     const uint32_t white = test::add_material(*scene, Material{"white", Lambertian{vec3(1.f)}});
     // Large horizontal plane facing +y (environment's up).
@@ -353,7 +355,7 @@ TEST(Environment, DiffusePlaneUnderMapMatchesAnalyticIrradiance) {
 // fully above the horizon: E = pi L sin^2(a) cos(theta) = irradiance * cos(theta) exactly (the closed-form irradiance
 // of a polygonal or spherical light, the sphere case), so the plane's radiance is irradiance * cos(theta) / pi. With
 // and without a sky under it.
-TEST(Environment, SunOnDiffusePlaneMatchesClosedForm) {
+TEST(EnvironmentIrradiance, SunOnDiffusePlaneMatchesClosedForm) {
     const float theta = glm::radians(40.f);
     const int spp = 20000;
     const double k = sidak_k(12);

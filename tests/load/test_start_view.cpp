@@ -1,6 +1,7 @@
 // tests/load/test_start_view.cpp: the start view of a scene without a camera (core/load/start_view.h): a closed room
 // starts inside, looking along its long axis; objects (a closed sphere, a box open at its front with blocks in it) keep
 // the outside framing bit for bit; load_scene gives OBJ and JSON scenes without a camera that view.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <filesystem>

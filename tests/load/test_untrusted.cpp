@@ -3,6 +3,7 @@
 // loop forever run in a child process with a time limit, so a regression fails instead of hanging the suite; the
 // child's peak RSS (wait4) is the memory figure. Image writers: full disk (RLIMIT_FSIZE), folders, long names,
 // stale temporary files.
+// Test kinds: regression
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>

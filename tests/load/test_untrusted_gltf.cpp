@@ -1,6 +1,7 @@
 // tests/load/test_untrusted_gltf.cpp: the glTF fuzzer's seed corpus (tests/fuzz/corpus-gltf, written by
 // make_gltf_corpus.py) is valid: every seed loads, its .gltf and .glb forms give the same scene, and the materials
 // seed's embedded PNG is decoded (through Texture::decode) into the textures its materials use.
+// Test kinds: regression
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -3,6 +3,7 @@
 // listed again, each either with a change that must change the hash or with the reason it is not hashed; the list's
 // length is compared with the struct's field count (counted independently, support/field_count.h), so a field added
 // to one of these structs fails here until it is hashed (or the reason it need not be is written down).
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <functional>

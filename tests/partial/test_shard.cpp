@@ -3,6 +3,7 @@
 // differs, so the sums agree within the recursive-summation bound and the float means bit for bit or within
 // one float ulp); a resumed part equals the single render bit for bit; the file round-trips exactly; bad parts
 // (overlapping, mismatched, truncated, another scene or version, not a partial) give one-line errors naming the file.
+// Test kinds: unit; regression: ShardBadInput
 #include <gtest/gtest.h>
 #include <unistd.h>
 

@@ -1,6 +1,7 @@
 // tests/partial/test_shard_cli.cpp: the partial-render commands end to end: `pathview render --samples START:COUNT`,
 // `pathview merge` and `pathview render --resume` against one `pathview render --spp N`; bad parts give one line
 // naming the file, a non-zero exit, and nothing (not even a temporary) at the output path.
+// Test kinds: unit
 #include <gtest/gtest.h>
 #include <unistd.h>
 

@@ -3,6 +3,7 @@
 // and shard text, finite flags, every output checked before anything is written, refused combinations, short quotes
 // of hostile attribute strings, and the merge's memory budget. Each case runs the program: exit code, one line
 // naming the file, nothing at the output.
+// Test kinds: regression; slow: UntrustedPartialSlow
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/wait.h>

@@ -10,6 +10,7 @@
 //    and MIS must be at least about as good as the better strategy on each plate:
 //    relMSE(MIS) <= 1.1 min(relMSE(NEE), relMSE(BSDF)), relMSE = mean over the plate's pixels of
 //    Var(pixel mean) / (ref^2 + 0.01) averaged over several seeds (the estimators are unbiased, so MSE = variance).
+// Test kinds: statistical
 #include <gtest/gtest.h>
 
 #include "tests/support/scenes.h"

@@ -5,6 +5,7 @@
 // NEE only, BSDF sampling only and MIS, with the independent and the Sobol sampler. Camera rays go through pixel
 // centres so each pixel has one receiver point and an exact reference. Pass: per-pixel |mean - ref| <= k stderr (Sidak
 // over every pixel of every render) and the image mean within k stderr (Sidak over the renders).
+// Test kinds: analytic
 #include <gtest/gtest.h>
 
 #include "tests/support/scenes.h"

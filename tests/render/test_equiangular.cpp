@@ -10,6 +10,7 @@
 // exactly this (the camera segment's scattering events and its equiangular samples; the next event would be a second
 // bounce), so its mean must match within a confidence interval (equiangular and distance sampling combined by MIS),
 // for a light ahead of the ray's origin and one behind it.
+// Test kinds: analytic
 #include <gtest/gtest.h>
 
 #include <cmath>

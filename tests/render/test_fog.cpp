@@ -5,6 +5,7 @@
 //    with and without roulette) is checked against 1 within a Sidak-corrected interval from the sample variance;
 //    distance sampling, phase sampling, NEE from medium points with the fog's transmittance and its MIS with phase
 //    sampling all enter.
+// Test kinds: analytic
 #include <gtest/gtest.h>
 
 #include "tests/support/scenes.h"

@@ -1,6 +1,7 @@
 // tests/render/test_hit_layout.cpp: the packed per-triangle hit records (core/scene/scene.h: TriangleRecord,
 // pack_triangles) hold exactly the Scene's data, and what the path tracer computes from them (surface point, uv,
 // material) is the same, bit for bit, as from the Scene's indexed arrays.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cstring>

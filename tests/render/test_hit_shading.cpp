@@ -1,6 +1,7 @@
 // tests/render/test_hit_shading.cpp: the AOV pass and the sky guide's training walk shade a hit as the path tracer does
 // (core/render/shading.h): glTF vertex colours (COLOR_0) multiply the denoiser's albedo, a normal map tilts its normal,
 // and both change what the sky guide learns.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -8,6 +8,7 @@
 // (independent sampler), k Sidak-corrected over all cells. A cell is skipped only where its estimator cannot see the
 // light at this budget: BSDF-only needs about 100 expected light hits (N * E / (pi Le) for cosine sampling), otherwise
 // its sample variance says nothing. The targeted tests of each defect follow the matrix.
+// Test kinds: statistical; analytic: LightMatrix SunDisk; unit: LightSelection
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -398,7 +399,7 @@ TEST(SunDisk, IrradianceIsIndependentOfRadius) {
 // uniformly: t = (1 - cos theta) / (1 - cos r), computed in double from the direction, is uniform on [0, 1)
 // (chi-square, 64 bins). Before the fix cos theta took a few hundred float values (rings; 3 at 0.01 degrees) and
 // about 1% of the directions at 0.27 degrees failed the disk's own test.
-TEST(SunDisk, LightSamplesLieInTheDiskAndFillItUniformly) {
+TEST(SunDiskSampling, LightSamplesLieInTheDiskAndFillItUniformly) {
     const float radii[] = {0.01f, 0.05f, 0.27f, 5.f, 45.f};
     const int n = 64000, bins = 64;
     for (const float radius : radii) {
@@ -474,7 +475,7 @@ TEST(AlphaEmitter, LightAndBsdfSamplingSeeTheSameCutOut) {
 // The case: a 1e4-area quad listed before a 1e-4-area quad of the same radiance, the receiver under the
 // small one (the large one faces away). NEE without MIS must equal BSDF-only. Before the fix the float CDF gave the
 // small quad probability 0 while its pmf was 5e-9: NEE without MIS counted it nowhere (0).
-TEST(LightSelection, TinyQuadAfterDominantQuadNeeEqualsBsdfOnly) {
+TEST(LightSelectionEstimators, TinyQuadAfterDominantQuadNeeEqualsBsdfOnly) {
     auto scene = receiver_scene();
     add_square(*scene, square(dvec3(0.0, 20.0, 0.0), 100.0, false), black_emitter(*scene, vec3(5.f)));
     add_square(*scene, square(dvec3(0.0, 0.05, 0.0), 0.01, true), black_emitter(*scene, vec3(5.f)));

@@ -2,6 +2,7 @@
 // pdf that LightSet::pdf gives a BSDF-found emitter (chi-square per triangle shape, including a sliver, a triangle seen
 // nearly edge-on and a point almost touching one), the solid angle matches a closed form, and both the solid-angle
 // and the area rule estimate a triangle's irradiance as Lambert's closed form gives it.
+// Test kinds: statistical; unit: SphericalTriangleArea; analytic: SolidAngleIrradiance
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -56,7 +57,7 @@ double girard_solid_angle(const Tri& t) {
     return sum - M_PI;
 }
 
-TEST(SolidAngleSampling, SolidAngleMatchesGirard) {
+TEST(SphericalTriangleArea, SolidAngleMatchesGirard) {
     for (const Tri& t : kTris) {
         const double want = girard_solid_angle(t);
         EXPECT_NEAR(spherical_triangle_area(t.ref, t.p0, t.p1, t.p2), want, 1e-4 * want + 1e-7) << t.name;
@@ -164,7 +165,7 @@ double lambert_irradiance(const Tri& t, vec3 n, double le) {
 
 // Both rules are unbiased estimators of the irradiance (within 4 standard errors of the closed form), and near the
 // emitter the solid-angle rule's variance is lower.
-TEST(SolidAngleSampling, IrradianceMatchesLambertUnderBothRules) {
+TEST(SolidAngleIrradiance, IrradianceMatchesLambertUnderBothRules) {
     // Receivers parallel to the emitter, facing it, so that it lies wholly above their horizon. (Not the touching
     // point: there the area rule's variance is unbounded in practice, which is why that rule is not used there.)
     for (const Tri& t : kTris) {

@@ -2,6 +2,7 @@
 // emitter's bit trail, sum to 1 over the emitters and are the frequencies the pick draws them with (chi-square);
 // through LightSet, a sample's pdf equals the pdf a BSDF-found emitter is given at the same point. The tree's agreement
 // with the closed forms under every estimator is in tests/render/test_light_matrix.cpp.
+// Test kinds: unit; statistical: LightTreeSampling
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -167,7 +168,7 @@ TEST(LightTree, EmittersFacingAwayAreNeverPicked) {
 // The picks' frequencies are the pmf (chi-square over the emitters and the failed picks, cells of expected count
 // below 5 pooled), and
 // each pick's probability is the pmf recomputed along its bit trail, bit for bit.
-TEST(LightTree, Chi2PicksFollowThePmf) {
+TEST(LightTreeSampling, Chi2PicksFollowThePmf) {
     const int n = 150;
     const std::vector<LightBounds> b = bounds_of(random_tris(n, 77));
     const LightTree tree(b);

@@ -7,6 +7,7 @@
 //    uniform and isotropic, which non-absorbing scattering and lossless interfaces conserve, so every pixel is 1.
 //  * Agreement: an emitter inside a glass sphere filled with an absorbing, scattering medium, the sphere in a thin
 //    fog over a diffuse floor: BSDF-only, NEE and MIS, with and without roulette, give the same image mean.
+// Test kinds: analytic; unit: MediumFlag; statistical: MediumSphereAgreement
 #include <gtest/gtest.h>
 
 #include <cmath>

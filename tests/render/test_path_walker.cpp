@@ -1,6 +1,7 @@
 // tests/render/test_path_walker.cpp: the path tracer advanced a stage at a time (PathWalker) gives the paths traced one
 // at a time, bit for bit, however several are interleaved (the Renderer's interleaving:
 // test_threading_paths_in_flight.cpp).
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cstring>

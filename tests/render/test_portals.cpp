@@ -2,6 +2,7 @@
 // sampling against its pdf (chi-square), the environment mixture with portals integrating to 1 and matching its
 // samples' pdfs, the same image with and without a portal (in the opening, and misplaced) within a confidence interval
 // from the sample variance, and the scene file's "portals" key with its errors.
+// Test kinds: unit; statistical: PortalSampling
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -65,7 +66,7 @@ TEST(Portals, ProbabilityOnlyWithPortalsAndALitEnvironment) {
 
 // Portal sampling alone (two portals of different areas, one seen edge-on from some points) draws directions
 // with the density portal_pdf gives them: chi-square, and that pdf integrates to 1 over the sphere.
-TEST(Portals, PortalDirectionsFollowTheirPdf) {
+TEST(PortalSampling, PortalDirectionsFollowTheirPdf) {
     const TraceableScene ts(window_room({kWindow, kMisplacedB}, false));
     for (const vec3 ref : {vec3(0.5f, 0.5f, 0.5f), vec3(0.2f, 0.1f, 0.8f)}) {
         test::Chi2Options o;
@@ -87,7 +88,7 @@ TEST(Portals, PortalDirectionsFollowTheirPdf) {
 
 // The whole environment sample (sky, sun and portals mixed) follows light_pdf_escape, its own pdf is that value,
 // and it integrates to 1; a reference point outside the room works the same.
-TEST(Portals, EnvironmentMixtureFollowsItsPdf) {
+TEST(PortalSampling, EnvironmentMixtureFollowsItsPdf) {
     const TraceableScene ts(window_room({kWindow, kMisplacedA}, true));
     for (const vec3 ref : {vec3(0.4f, 0.45f, 0.55f), vec3(1.5f, 0.2f, 0.5f)})
         test::expect_environment_samples_follow_pdf(ts, ref);
@@ -103,7 +104,7 @@ test::PixelStats render_stats(std::shared_ptr<const Scene> scene, uint32_t seed,
 
 // The same room renders the same image (per-pixel Welch with Sidak, and the total mean) without portals, with the
 // window's portal, and with misplaced portals (the environment's own sampling keeps every direction covered).
-TEST(Portals, RenderAgreesWithAndWithoutPortals) {
+TEST(PortalSampling, RenderAgreesWithAndWithoutPortals) {
     const int spp = 256;
     const auto none = render_stats(window_room({}, true), 3, spp);
     const auto window = render_stats(window_room({kWindow}, true), 4, spp);

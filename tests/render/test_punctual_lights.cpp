@@ -4,6 +4,7 @@
 // t^2, t = clamp((cos - cos_outer) / (cos_inner - cos_outer), 0, 1), for a spot, and I cos(theta) for a
 // directional light, which gives the same picture as a sun of that irradiance. A camera with a narrow field of view
 // looks at one point, so the image is that one radiance (the plane is alone: no interreflection).
+// Test kinds: analytic
 #include <gtest/gtest.h>
 
 #include "tests/support/scenes.h"

@@ -1,5 +1,6 @@
 // tests/render/test_raybench.cpp: the ray-rate ceiling's arithmetic and the minimal kernel's bookkeeping (rates
 // themselves are timings, measured by `pathview bench --rays`, never asserted here).
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cmath>

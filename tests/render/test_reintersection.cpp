@@ -6,6 +6,7 @@
 // rounding error on slivers whose vertices are far larger than p, and Embree's default (non-robust) triangle test
 // reports false hits on such slivers; core/base/math.h now takes an error bound and core/render/accel.cpp sets
 // RTC_SCENE_FLAG_ROBUST. Both are needed: either alone leaves ~300 re-hits per bad sliver.
+// Test kinds: regression
 #include <gtest/gtest.h>
 
 #include "core/render/accel.h"

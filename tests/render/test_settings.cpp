@@ -2,6 +2,7 @@
 // field of the struct (counted independently of the table), each once; two settings that differ in any one field
 // compare unequal, describe differently, and read back from the partial renders' text as themselves; the text of the
 // defaults and of strings from before the sky guide and the light tree is unchanged (existing partial files read).
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <fstream>

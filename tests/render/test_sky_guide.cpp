@@ -3,6 +3,7 @@
 // of a room lit through a window agreeing within a confidence interval from the sample variance, a white furnace
 // under a constant sky, determinism (threads, resumed shards), where it applies, and that it concentrates: guided
 // sky samples pass the window far more often than the sky's own.
+// Test kinds: unit; statistical: SkyGuideSampling; analytic: SkyGuideFurnace
 #include <gtest/gtest.h>
 
 #include "core/frame/renderer.h"
@@ -71,7 +72,7 @@ std::shared_ptr<const SkyGuide> synthetic_guide() {
     return std::make_shared<SkyGuide>(w, grid);
 }
 
-TEST(SkyGuide, SamplesFollowTheirPdfInEveryCell) {
+TEST(SkyGuideSampling, SamplesFollowTheirPdfInEveryCell) {
     const auto guide = synthetic_guide();
     ASSERT_TRUE(guide->valid());
     for (const vec3 p : {vec3(0.5f, 1.f, 1.f), vec3(1.5f, 0.2f, 1.9f)}) {
@@ -126,7 +127,7 @@ TEST(SkyGuide, BinAndCellStayInRange) {
 
 // The environment's whole sample (sun, sky and guide mixed) follows light_pdf_escape, the sample's own pdf is that
 // value, and it integrates to 1.
-TEST(SkyGuide, EnvironmentMixtureFollowsItsPdf) {
+TEST(SkyGuideSampling, EnvironmentMixtureFollowsItsPdf) {
     TraceableScene ts(skylight_room(true));
     ts.set_sky_guide(synthetic_guide());
     ASSERT_EQ(ts.sky_guide_probability(), TraceableScene::kSkyGuideProbability);
@@ -176,7 +177,7 @@ test::PixelStats render_stats(std::shared_ptr<const Scene> scene, uint32_t seed,
 
 // Guided and unguided renders of the skylit room (with and without a sun) agree per pixel (Welch t, Sidak) and in
 // total (z); the guided one is less noisy.
-TEST(SkyGuide, GuidedRenderAgreesWithUnguided) {
+TEST(SkyGuideSampling, GuidedRenderAgreesWithUnguided) {
     for (const bool sun : {false, true}) {
         const int spp = 256;
         const auto off = render_stats(skylight_room(sun), 3, false, spp);
@@ -189,7 +190,7 @@ TEST(SkyGuide, GuidedRenderAgreesWithUnguided) {
 
 // White furnace: a Lambertian sphere (rho = 0.5) under a constant sky L returns rho L at every point; guided, with
 // NEE and MIS on, the mean over the samples that hit it is within 4 standard errors of that.
-TEST(SkyGuide, WhiteFurnaceIsUnbiased) {
+TEST(SkyGuideFurnace, WhiteFurnaceIsUnbiased) {
     auto scene = std::make_shared<Scene>();
     Material m;
     m.bsdf = Lambertian{vec3(0.5f)};
@@ -257,7 +258,7 @@ TEST(SkyGuide, DeterministicForThreadsAndShards) {
 // skylight much more often than the sky's own (uniform) directions, which pass with probability about the
 // skylight's solid angle over 4 pi (at most 0.1 here). Bound: the guided fraction exceeds 4x the uniform one by more
 // than 4 standard errors of the difference.
-TEST(SkyGuide, GuidedSamplesPassTheOpeningFarMoreOften) {
+TEST(SkyGuideSampling, GuidedSamplesPassTheOpeningFarMoreOften) {
     const TraceableScene ts(skylight_room(false));
     const RenderSettings s = independent(2, true);
     const auto guide = trained(ts, s, 32, 24);

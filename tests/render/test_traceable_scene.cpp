@@ -1,6 +1,7 @@
 // tests/render/test_traceable_scene.cpp: the scene prepared for tracing (core/render/traceable_scene.h): its one light
 // interface over emissive triangles, sky and sun (selection probabilities, sampling against its own pdfs by
 // chi-square), picking, and material and environment edits.
+// Test kinds: unit; statistical: Chi2CombinedLight
 #include <gtest/gtest.h>
 
 #include "core/render/surface.h"
@@ -69,7 +70,7 @@ double light_direction_pdf(const TraceableScene& ts, vec3 ref, vec3 w) {
 
 // sample_light over triangles, sky and sun together draws directions with the density light_pdf_hit and
 // light_pdf_escape give them (selection probabilities included): chi-square, and the pdf integrates to 1.
-TEST(TraceableScene, LightSamplesFollowTheCombinedPdf) {
+TEST(Chi2CombinedLight, LightSamplesFollowTheCombinedPdf) {
     const vec3 ref(0.f);
     for (const bool quad : {true, false}) {
         const TraceableScene ts(lit_scene(quad, vec3(0.5f), vec3(2.f)));

@@ -7,6 +7,7 @@
 //  * sample() agrees with eval() and pdf() (rel 1e-5), reciprocity (rel 1e-4);
 //  * directional albedo <= 1 at cos(wo) in {1, 0.5, 0.1, 1e-3}, by uniform-hemisphere and BSDF sampling, which
 //    must agree; exactly 1 for albedo-1 Lambert, the mirror and lossless glass.
+// Test kinds: statistical; analytic: BsdfAlbedo DielectricSampling; unit: BsdfConsistency LightSampling
 #include <gtest/gtest.h>
 
 #include <cstring>

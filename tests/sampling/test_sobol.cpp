@@ -2,6 +2,7 @@
 // determinism): every 2D draw of the first 2^m even (or odd) samples of a pixel is a (0,m,2)-net (pbrt-v4's
 // ElementaryIntervals test), 1D draws are stratified, the even and odd halves are uncorrelated, values are never 1.0,
 // and the values depend only on (pixel, index, seed, dimension).
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <vector>

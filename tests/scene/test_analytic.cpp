@@ -6,6 +6,7 @@
 //    scattering events, L_D = Le (1 - rho^(D+1)) / (1 - rho), for every light_sampling/mis/rr combination.
 // Statistical bounds: |mean - expected| <= k * stderr, stderr from the sample variance, k Sidak-corrected over
 // the number of statistical tests in the family (alpha = 0.01).
+// Test kinds: analytic
 #include <gtest/gtest.h>
 
 #include "tests/support/scenes.h"

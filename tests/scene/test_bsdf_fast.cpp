@@ -1,6 +1,7 @@
 // tests/scene/test_bsdf_fast.cpp: the fast paths of core/sampling/warp.h and core/scene/bsdf.h against straightforward
 // references in double (the formulas they replaced): the polynomial sin/cos (stated error bounds), the concentric disk
 // map, the inline Lambertian dispatch (two-sided rules, edge cases) and the one-division GGX eval/pdf (rel 1e-5).
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -5,6 +5,7 @@
 //  * white furnace: a white base under a white coat (clearcoat 1) and/or a white sheen (sheen colour 1) reflects 1,
 //    within the albedo tables' interpolation error + k sigma;
 //  * the layers are present only when asked for, and a texel scales their factors keeping the lobes.
+// Test kinds: analytic; statistical: Chi2MetallicRoughnessLayers
 #include <gtest/gtest.h>
 
 #include <cmath>

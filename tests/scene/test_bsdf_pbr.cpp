@@ -7,6 +7,7 @@
 //    table matches the closed form, the literature and Monte Carlo; a white rough metal reflects 1 (Kulla-Conty);
 //  * reciprocity of eval() for reflection; specular 0 is exactly Lambert (the glTF Cornell box's base);
 //  * Beer-Lambert attenuation through a solid (KHR_materials_volume), applied by the path tracer.
+// Test kinds: analytic; statistical: Chi2MetallicRoughness; unit: MetallicRoughnessBsdf
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -3,6 +3,7 @@
 // within its bound, agreement with the libm texel away from edges, pdf proportional to eval per texel, uv-space
 // chi-square for odd maps: all-zero rows, one bright texel, 1 x N and N x 1). Seeds are fixed; chi-square levels
 // are Sidak-corrected over the cases of each test.
+// Test kinds: unit; statistical: Distribution1D Distribution2D EnvironmentSampling
 #include <gtest/gtest.h>
 
 #include <algorithm>

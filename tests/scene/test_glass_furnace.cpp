@@ -5,6 +5,7 @@
 // plane on the wrong side; a path that ends there is a dark rim at the silhouette. And total internal reflection
 // about interpolated normals can keep a path circling inside until the depth cap. Both were 2.4% of the paths
 // here (depth cap 1024, roulette off), darkest pixel 0.25.
+// Test kinds: analytic
 #include <gtest/gtest.h>
 
 #include <cmath>

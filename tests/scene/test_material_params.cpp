@@ -1,5 +1,6 @@
 // tests/scene/test_material_params.cpp: the one parameters <-> Bsdf conversion (core/scene/material_params.h) keeps
 // core/scene/bsdf.h's promises for any input, and round-trips what it accepts.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -8,6 +8,7 @@
 //    interval from the sample variance.
 //  * Equiangular sampling (Kulla and Fajardo 2012): chi-square of the drawn distances against the pdf integrated per
 //    bin, for bounded and unbounded segments.
+// Test kinds: statistical
 #include <gtest/gtest.h>
 
 #include <cmath>

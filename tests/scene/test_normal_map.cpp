@@ -1,6 +1,7 @@
 // tests/scene/test_normal_map.cpp: glTF normalTexture (core/render/normal_map.h): a flat quad whose normal map tilts
 // the normal by a known angle is lit as the quad geometrically tilted by that angle (direct lighting from a directional
 // light, in closed form), and a flat map (0.5, 0.5, 1) renders the image of no map bit for bit.
+// Test kinds: unit; analytic: NormalMapLighting
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -49,7 +50,7 @@ vec3 centre(const Film& f) {
     return vec3(float(p.sum[0]), float(p.sum[1]), float(p.sum[2])) / float(p.n);
 }
 
-TEST(NormalMap, TiltedMapLightsAsTheTiltedQuadInClosedForm) {
+TEST(NormalMapLighting, TiltedMapLightsAsTheTiltedQuadInClosedForm) {
     const vec3 toward_light = glm::normalize(vec3(0.f, 0.5f, 1.f));
     const vec3 tilted_n(0.f, std::sin(kTilt), std::cos(kTilt));
     // The map tilts +z toward +y (B, up the uvs' v) by 30 degrees; the geometric quad is turned by the same angle.

@@ -3,6 +3,7 @@
 //  * the lobe is reciprocal;
 //  * the compiled-in albedo table (scripts/make_sheen_table.py) agrees with this test's own numerical integration of
 //    the lobe, at nodes and between them (bilinear), and stays in [0, 1].
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -3,6 +3,7 @@
 // stb_image, which decoded them before: PNGs give the same texels bit for bit, JPEGs the same within the rounding of
 // two conforming decoders. Truncated and corrupt files warn or fail naming the file; a declared size over the budget
 // is refused before the pixels are allocated.
+// Test kinds: unit
 #include <gtest/gtest.h>
 #include <png.h>
 #include <stb_image.h>

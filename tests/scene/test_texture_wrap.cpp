@@ -2,6 +2,7 @@
 // mirrored repeat, per axis). Each mode's bilinear lookup equals a reference written out plainly (double arithmetic,
 // the OpenGL definitions of the modes) at uvs inside [0, 1], just outside, negative, far away and beyond the range of
 // long long, for 8-bit-code and float storage, odd and power-of-two sizes, every pair of modes on the two axes.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,7 +1,7 @@
-// tests/render/test_shading_speed.cpp: the per-ray shortcuts of docs/ray-speed.md's fifth round give the same bits as
-// the code they replace: cell_to_unit's float path for power-of-two cell counts against the double division, the
-// one-column Distribution2D against its alias table, and Texture::lookup from a prefetched footprint against the
-// plain lookup. Fixed seeds.
+// tests/render/test_shading_shortcuts.cpp: per-ray shortcuts give the same bits as the code they replace:
+// cell_to_unit's float path for power-of-two cell counts against the double division, the one-column Distribution2D
+// against its alias table, and Texture::lookup from a prefetched footprint against the plain lookup. Fixed seeds.
+// Test kinds: unit
 #include <gtest/gtest.h>
 
 #include <cmath>
