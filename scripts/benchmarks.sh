@@ -12,6 +12,9 @@ PV="$BUILD/pathview"
 [ -x "$PV" ] || { echo "benchmarks.sh: $PV not found; build first (make build)" >&2; exit 1; }
 OUT=bench
 mkdir -p "$OUT"
+# The built-in scene's path is absolute (the asset folder compiled into the binary); headings print it relative to
+# the repository so that BENCHMARKS.md does not name the machine's checkout.
+ROOT=$(pwd)
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 MD=/dev/null
@@ -30,7 +33,7 @@ bench() {  # bench NAME ARGS...: runs pathview bench, keeps its report, writes b
         echo "pathview bench $* --csv $OUT/$name.csv --svg $OUT/$name.svg"
         echo '```'
         echo
-        "$PV" bench "$@" --csv "$OUT/$name.csv" --svg "$OUT/$name.svg" | sed -e 's/^## /#### /' -e 's/^### /#### /' \
+        "$PV" bench "$@" --csv "$OUT/$name.csv" --svg "$OUT/$name.svg" | sed -e 's/^## /#### /' -e 's/^### /#### /' -e "/^#### /s|$ROOT/||g" \
             -e 's|^#### Every point\(.*\)$|<details><summary>Every point\1</summary>\n|' \
             -e 's|^#### Equal time|</details>\n\n#### Equal time|'
         echo
@@ -46,7 +49,7 @@ rays() {  # rays NAME ARGS...: the ray-rate ceiling section only
         echo '```'
         echo "pathview bench --rays-only $*"
         echo '```'
-        "$PV" bench --rays-only "$@" | sed -e 's/^### /#### /'
+        "$PV" bench --rays-only "$@" | sed -e 's/^### /#### /' -e "/^#### /s|$ROOT/||g"
     } >> "$MD"
 }
 
