@@ -510,8 +510,9 @@ PV_STAGE PathWalker::Next PathWalker::medium_scatter(float t, float tmax, float 
     }
     if (m_settings->light_sampling)
         for (size_t i = 0; i < ts.scene().punctual_lights.size(); ++i) {
+            const PunctualLight& light = ts.scene().punctual_lights[i];
             LightSample ls;
-            if (!sample_punctual(ts.scene().punctual_lights[i], p, ls)) continue;
+            if (!sample_punctual(light, p, ls)) continue;
             ++m_counters.shadow_rays;
             if (ts.occluded(shadow_ray(p, ls))) continue;
             float w = 1.f;

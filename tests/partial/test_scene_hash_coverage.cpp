@@ -38,7 +38,11 @@ struct Input {
         scene.punctual_lights.resize(1);
         scene.fog.sigma_s = vec3(0.1f);
         Material m;
-        m.bsdf = make_metallic_roughness(MetallicRoughness{});
+        MetallicRoughness mr;  // with a coat and a sheen, whose parameters are hashed only when present
+        mr.clearcoat = 0.5f;
+        mr.sheen_color = vec3(0.5f);
+        m.bsdf = make_metallic_roughness(mr);
+        m.clearcoat_texture = 0;
         m.metallic_roughness_texture = 0;
         m.normal_texture = 0;
         m.emissive_texture = 0;
@@ -108,19 +112,25 @@ TEST(SceneHashCoverage, EveryFieldOfSceneIsHashedOrSaysWhyNot) {
 }
 
 TEST(SceneHashCoverage, EveryFieldOfMaterialIsHashed) {
-    expect_coverage("Material", field_count<Material>(),
-                    {{"name", [](Input& i) { i.materials[0].name = "other"; }},
-                     {"bsdf", [](Input& i) { i.materials[0].bsdf = Lambertian{}; }},
-                     {"emission", [](Input& i) { i.materials[0].emission = vec3(1.f); }},
-                     {"two_sided_emission", [](Input& i) { i.materials[0].two_sided_emission = true; }},
-                     {"base_color_texture", [](Input& i) { i.materials[0].base_color_texture = 0; }},
-                     {"alpha_texture", [](Input& i) { i.materials[0].alpha_texture = 0; }},
-                     {"metallic_roughness_texture", [](Input& i) { i.materials[0].metallic_roughness_texture = 1; }},
-                     {"emissive_texture", [](Input& i) { i.materials[0].emissive_texture = 1; }},
-                     {"emissive_uv", [](Input& i) { i.materials[0].emissive_uv.offset = vec2(0.5f); }},
-                     {"normal_texture", [](Input& i) { i.materials[0].normal_texture = 1; }},
-                     {"normal_scale", [](Input& i) { i.materials[0].normal_scale = 0.5f; }},
-                     {"medium", [](Input& i) { i.materials[0].medium.sigma_s = vec3(0.5f); }}});
+    expect_coverage(
+        "Material", field_count<Material>(),
+        {{"name", [](Input& i) { i.materials[0].name = "other"; }},
+         {"bsdf", [](Input& i) { i.materials[0].bsdf = Lambertian{}; }},
+         {"emission", [](Input& i) { i.materials[0].emission = vec3(1.f); }},
+         {"two_sided_emission", [](Input& i) { i.materials[0].two_sided_emission = true; }},
+         {"base_color_texture", [](Input& i) { i.materials[0].base_color_texture = 0; }},
+         {"alpha_texture", [](Input& i) { i.materials[0].alpha_texture = 0; }},
+         {"metallic_roughness_texture", [](Input& i) { i.materials[0].metallic_roughness_texture = 1; }},
+         {"emissive_texture", [](Input& i) { i.materials[0].emissive_texture = 1; }},
+         {"emissive_uv", [](Input& i) { i.materials[0].emissive_uv.offset = vec2(0.5f); }},
+         {"normal_texture", [](Input& i) { i.materials[0].normal_texture = 1; }},
+         {"normal_scale", [](Input& i) { i.materials[0].normal_scale = 0.5f; }},
+         {"medium", [](Input& i) { i.materials[0].medium.sigma_s = vec3(0.5f); }},
+         {"clearcoat_texture", [](Input& i) { i.materials[0].clearcoat_texture = 1; }},
+         {"clearcoat_roughness_texture", [](Input& i) { i.materials[0].clearcoat_roughness_texture = 1; }},
+         {"sheen_color_texture", [](Input& i) { i.materials[0].sheen_color_texture = 1; }},
+         {"sheen_roughness_texture", [](Input& i) { i.materials[0].sheen_roughness_texture = 1; }},
+         {"light_group", {}, "which group a light's emission is credited to: no pixel of the image changes"}});
 }
 
 TEST(SceneHashCoverage, EveryParameterOfTheBsdfsIsHashed) {
@@ -136,6 +146,12 @@ TEST(SceneHashCoverage, EveryParameterOfTheBsdfsIsHashed) {
                      {"thin_walled", [](Input& i) { i.mr().thin_walled = false; }},
                      {"attenuation_color", [](Input& i) { i.mr().attenuation_color = vec3(0.5f); }},
                      {"attenuation_distance", [](Input& i) { i.mr().attenuation_distance = 2.f; }},
+                     {"clearcoat", [](Input& i) { i.mr().clearcoat = 0.25f; }},
+                     {"clearcoat_roughness", [](Input& i) { i.mr().clearcoat_roughness = 0.5f; }},
+                     {"sheen_color", [](Input& i) { i.mr().sheen_color = vec3(0.25f); }},
+                     {"sheen_roughness", [](Input& i) { i.mr().sheen_roughness = 0.5f; }},
+                     {"coat_alpha", {}, derived},
+                     {"sheen_alpha", {}, derived},
                      {"alpha", {}, derived},
                      {"f0", {}, derived},
                      {"spec_f0", {}, derived},
